@@ -1,0 +1,9 @@
+#include "commands.h"
+
+namespace plslam::cli {
+
+std::vector<Command> allCommands() {
+  return {};
+}
+
+}  // namespace plslam::cli

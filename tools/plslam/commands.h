@@ -1,0 +1,12 @@
+// The table of subcommands. Each cmd_*.cpp defines one make*Command().
+#pragma once
+
+#include <vector>
+
+#include "args.h"
+
+namespace plslam::cli {
+
+std::vector<Command> allCommands();
+
+}  // namespace plslam::cli
