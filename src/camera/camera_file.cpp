@@ -88,7 +88,8 @@ PinholeCamera parseCameraFile(const std::string& content, const std::string& pat
   out.cy = number(*model, "v0", path, true, 0);
   if (model->child("type")->text == "perspectiveProjWithDistortion") out.dist[0] = number(*model, "kud", path, true, 0);
 
-  if (const XmlNode* rgbd = root.child("rgbd")) {
+  const XmlNode* info = cam->child("additional_information");
+  if (const XmlNode* rgbd = info ? info->child("rgbd") : nullptr) {
     out.depth_scale = number(*rgbd, "depth_scale", path, true, 0);
     if (const XmlNode* d = rgbd->child("distortion")) {
       const char* keys[] = {"k1", "k2", "p1", "p2", "k3"};
@@ -116,11 +117,13 @@ void saveCameraFile(const std::string& path, const PinholeCamera& c, const std::
      << "    <image_width>" << c.width << "</image_width>\n    <image_height>" << c.height << "</image_height>\n"
      << "    <model>\n      <type>perspectiveProjWithoutDistortion</type>\n"
      << "      <px>" << c.fx << "</px>\n      <py>" << c.fy << "</py>\n"
-     << "      <u0>" << c.cx << "</u0>\n      <v0>" << c.cy << "</v0>\n    </model>\n  </camera>\n"
-     << "  <!-- plslam: depth units per metre and Brown-Conrady distortion (OpenCV order); ViSP ignores this. -->\n"
-     << "  <rgbd>\n    <depth_scale>" << c.depth_scale << "</depth_scale>\n    <distortion>\n"
-     << "      <k1>" << c.dist[0] << "</k1>\n      <k2>" << c.dist[1] << "</k2>\n      <p1>" << c.dist[2] << "</p1>\n"
-     << "      <p2>" << c.dist[3] << "</p2>\n      <k3>" << c.dist[4] << "</k3>\n    </distortion>\n  </rgbd>\n</root>\n";
+     << "      <u0>" << c.cx << "</u0>\n      <v0>" << c.cy << "</v0>\n    </model>\n"
+     << "    <additional_information>\n"
+     << "      <!-- plslam: depth units per metre and Brown-Conrady distortion (OpenCV order); ViSP skips <additional_information>. -->\n"
+     << "      <rgbd>\n        <depth_scale>" << c.depth_scale << "</depth_scale>\n        <distortion>\n"
+     << "          <k1>" << c.dist[0] << "</k1>\n          <k2>" << c.dist[1] << "</k2>\n          <p1>" << c.dist[2]
+     << "</p1>\n          <p2>" << c.dist[3] << "</p2>\n          <k3>" << c.dist[4] << "</k3>\n        </distortion>\n"
+     << "      </rgbd>\n    </additional_information>\n  </camera>\n</root>\n";
   writeFileAtomically(path, os.str());
 }
 

@@ -1,13 +1,16 @@
 // Camera files: ViSP XML (the vpXmlParserCamera format), so that ViSP tools read them,
-// with one addition ViSP ignores: an <rgbd> element beside <camera> that carries what
-// ViSP's model cannot, the Brown-Conrady distortion (OpenCV order) and the depth scale.
+// with one addition that ViSP's parser skips (it refuses unknown elements anywhere else):
+// an <rgbd> element inside the camera's <additional_information> that carries what ViSP's
+// model cannot, the Brown-Conrady distortion (OpenCV order) and the depth scale.
 //
 //   <root>
 //     <camera> <name/> <image_width/> <image_height/>
 //       <model> <type>perspectiveProjWithoutDistortion</type> <px/> <py/> <u0/> <v0/> </model>
+//       <additional_information>
+//         <rgbd> <depth_scale>5000</depth_scale>
+//                <distortion> <k1/> <k2/> <p1/> <p2/> <k3/> </distortion> </rgbd>
+//       </additional_information>
 //     </camera>
-//     <rgbd> <depth_scale>5000</depth_scale>
-//            <distortion> <k1/> <k2/> <p1/> <p2/> <k3/> </distortion> </rgbd>
 //   </root>
 //
 // A ViSP file without <rgbd> is accepted (depth scale 1000, the RealSense default, is

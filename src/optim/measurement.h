@@ -1,0 +1,48 @@
+// The measurement model shared by the optimisers: pixel and depth noise, chi2 gates, and
+// the outcome of a solve. No Ceres here, so mapping/frontend can include it freely.
+//
+// All image measurements are in IDEAL (undistorted) pixels of a pinhole camera; only
+// fx, fy, cx, cy of PinholeCamera are used, never its distortion.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+
+namespace plslam {
+
+struct MeasurementModel {
+  double pixel_sigma = 1.0;          ///< keypoint / segment sigma at octave 0, pixels
+  double scale_factor = 1.2;         ///< pyramid scale between octaves: sigma = pixel_sigma * scale_factor^octave
+  double depth_sigma_coeff = 0.0015; ///< Kinect-like depth noise: sigma_z = coeff * z^2 (z in metres)
+  double chi2_2dof = 5.991;          ///< 95% chi2 gate (and Huber threshold squared) for 2-dof terms: points, lines
+  double chi2_3dof = 7.815;          ///< 95% chi2 gate (and Huber threshold squared) for points with depth
+  bool use_depth = true;             ///< add a depth residual to point observations with a valid depth
+  double min_depth = 1e-3;           ///< a point closer than this to the image plane (metres) cannot be projected
+
+  /// Pixel sigma of a feature at `octave`.
+  double pixelSigma(int octave) const;
+  /// Depth sigma (metres) of a reading of `z` metres.
+  double depthSigma(double z) const { return depth_sigma_coeff * z * z; }
+  /// True when `depth` is a usable reading and depth residuals are on.
+  bool hasDepth(double depth) const;
+  /// Throws ConfigError when a field is out of range.
+  void validate() const;
+};
+
+/// Outcome of an optimisation call. Anything but kOk means the result must not be trusted.
+enum class OptimStatus {
+  kOk,                  ///< the solver ran and enough inliers remain
+  kNoObservations,      ///< the problem has no observation at all
+  kNoValidObservations, ///< every observation is unusable (behind the camera, degenerate segment)
+  kTooFewInliers,       ///< fewer inliers than the caller's minimum after outlier rejection
+  kSolverFailed,        ///< Ceres reported a failure (non-finite cost, bad evaluation)
+  kNothingToOptimise,   ///< every parameter is fixed (pose graph / BA)
+};
+const char* toString(OptimStatus status);
+
+/// Infinite 2D line through ideal pixels p and q, (a, b, c) with a^2 + b^2 = 1, so
+/// that a*u + b*v + c is the signed distance of (u, v) to it, in pixels. Returns false
+/// (and leaves `l` untouched) when p and q (nearly) coincide.
+bool normalisedLine(const Eigen::Vector2d& p, const Eigen::Vector2d& q, Eigen::Vector3d* l);
+
+}  // namespace plslam

@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Installs what plslam needs from Debian packages (only what is missing), then configures
+# and builds incrementally. Called by tools/map.sh and tools/test.sh; safe to run again:
+# when everything is installed and built it takes a second or two.
+#
+#   PLSLAM_BUILD_DIR   build folder (default: build)
+#   PLSLAM_BUILD_TYPE  CMake build type (default: Release)
+set -euo pipefail
+
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build_dir="${PLSLAM_BUILD_DIR:-$root/build}"
+build_type="${PLSLAM_BUILD_TYPE:-Release}"
+
+packages=(
+  build-essential cmake ninja-build ccache pkg-config
+  libeigen3-dev libopencv-dev libopencv-contrib-dev libvisp-dev libceres-dev
+  libpcl-dev liboctomap-dev libapriltag-dev libgtest-dev libgmock-dev libbenchmark-dev
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+if ((${#missing[@]})); then
+  echo "plslam setup: installing ${#missing[@]} missing Debian packages: ${missing[*]}" >&2
+  sudo=""
+  if [ "$(id -u)" != 0 ]; then
+    command -v sudo >/dev/null || { echo "plslam setup: not root and no sudo: install these packages first: ${missing[*]}" >&2; exit 1; }
+    sudo=sudo
+  fi
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq
+  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+if [ ! -f "$build_dir/build.ninja" ]; then
+  cmake -S "$root" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE="$build_type" >/dev/null
+fi
+# Two jobs per core would swap on PCL-heavy files; one per core is the safe default.
+ninja -C "$build_dir" -j "$(nproc)"

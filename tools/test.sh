@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# The whole test suite: installs what is missing, builds incrementally, runs CTest.
+# Tests that need ../shared (real TUM data, models) skip visibly when it is absent;
+# point PLSLAM_SHARED_DIR elsewhere to use another copy.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+bash "$root/tools/setup.sh"
+build_dir="${PLSLAM_BUILD_DIR:-$root/build}"
+ctest --test-dir "$build_dir" --output-on-failure -j "$(nproc)" "$@"
