@@ -1,0 +1,116 @@
+// The SLAM map: keyframes, map points and 3D map lines, owned here in id-ordered
+// containers; entities refer to each other by id. Feature observations of a frame are
+// kept in the form every stage shares (FrameFeatures), in ideal (undistorted) pixels.
+//
+// Thread safety: Map itself is not synchronised; the pipeline holds `mutex()` while it
+// reads or writes entities (tracking reads, local mapping writes).
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "core/se3.h"
+#include "core/time.h"
+
+namespace plslam {
+
+using Id = int64_t;
+constexpr Id kNoId = -1;
+
+/// A keypoint as the SLAM stages use it.
+struct Keypoint {
+  Eigen::Vector2d uv_raw;  ///< pixel in the raw (distorted) image
+  Eigen::Vector2d uv;      ///< ideal (undistorted) pixel
+  int octave = 0;          ///< pyramid level it was detected at
+  float angle = 0;         ///< orientation, degrees (OpenCV convention)
+  float depth_m = 0;       ///< depth at uv_raw, metres; NaN when the sensor gave none
+};
+
+/// A 2D line segment as the SLAM stages use it.
+struct Segment2D {
+  Eigen::Vector2d p_raw, q_raw;  ///< endpoints, raw pixels
+  Eigen::Vector2d p, q;          ///< endpoints, ideal pixels
+  int octave = 0;
+};
+
+/// Everything extracted from one image. Descriptors are CV_8U rows of 32 bytes (ORB, LBD).
+struct FrameFeatures {
+  std::vector<Keypoint> points;
+  cv::Mat point_descriptors;
+  std::vector<Segment2D> lines;
+  cv::Mat line_descriptors;
+};
+
+struct KeyFrame {
+  Id id = kNoId;
+  TimeNs t_ns = 0;
+  SE3 T_w_c;
+  FrameFeatures features;
+  std::vector<Id> point_ids;  ///< per keypoint: the map point it observes, or kNoId
+  std::vector<Id> line_ids;   ///< per line: the map line it observes, or kNoId
+};
+
+struct MapPoint {
+  Id id = kNoId;
+  Eigen::Vector3d p_w = Eigen::Vector3d::Zero();
+  cv::Mat descriptor;           ///< the representative 32-byte descriptor (1 row)
+  std::map<Id, int> observations;  ///< keyframe id -> keypoint index in that keyframe
+  Id first_keyframe = kNoId;
+  int visible = 1;  ///< times it was predicted inside a tracked frame
+  int found = 1;    ///< times it was matched there
+};
+
+/// A 3D segment; its canonical state is the two world endpoints.
+struct MapLine {
+  Id id = kNoId;
+  Eigen::Vector3d P_w = Eigen::Vector3d::Zero(), Q_w = Eigen::Vector3d::Zero();
+  cv::Mat descriptor;
+  std::map<Id, int> observations;  ///< keyframe id -> line index in that keyframe
+  Id first_keyframe = kNoId;
+  int visible = 1;
+  int found = 1;
+};
+
+class Map {
+ public:
+  std::mutex& mutex() const { return mutex_; }
+
+  Id addKeyFrame(KeyFrame kf);
+  Id addPoint(MapPoint p);
+  Id addLine(MapLine l);
+  /// Records that keypoint `index` of keyframe `kf` observes point `pt` (both sides).
+  void addPointObservation(Id kf, int index, Id pt);
+  void addLineObservation(Id kf, int index, Id line);
+  /// Removes a landmark and every observation of it.
+  void erasePoint(Id pt);
+  void eraseLine(Id line);
+  /// Moves landmark `from`'s observations to `into` and erases `from` (duplicates found
+  /// by matching).
+  void mergePoint(Id from, Id into);
+
+  const std::map<Id, KeyFrame>& keyframes() const { return keyframes_; }
+  const std::map<Id, MapPoint>& points() const { return points_; }
+  const std::map<Id, MapLine>& lines() const { return lines_; }
+  KeyFrame* keyframe(Id id);
+  MapPoint* point(Id id);
+  MapLine* line(Id id);
+  const KeyFrame* keyframe(Id id) const;
+  const MapPoint* point(Id id) const;
+  const MapLine* line(Id id) const;
+
+  /// Keyframes sharing at least `min_shared` map points with `kf`, most shared first.
+  std::vector<std::pair<Id, int>> covisible(Id kf, int min_shared = 1) const;
+
+ private:
+  mutable std::mutex mutex_;
+  std::map<Id, KeyFrame> keyframes_;
+  std::map<Id, MapPoint> points_;
+  std::map<Id, MapLine> lines_;
+  Id next_keyframe_id_ = 0, next_point_id_ = 0, next_line_id_ = 0;
+};
+
+}  // namespace plslam

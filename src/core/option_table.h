@@ -1,0 +1,49 @@
+// A table of named, documented options bound to fields of the modules' option structs,
+// so that one place applies a configuration file (unknown keys refused, values checked)
+// and writes the effective configuration back out with each field's doc line.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace plslam {
+
+class OptionTable {
+ public:
+  /// Binds `key` (e.g. "tracker.min_inliers") to `*field`. The field's current value is its default.
+  void bind(const std::string& key, int* field, const std::string& doc);
+  void bind(const std::string& key, double* field, const std::string& doc);
+  void bind(const std::string& key, float* field, const std::string& doc);
+  void bind(const std::string& key, bool* field, const std::string& doc);
+  void bind(const std::string& key, std::string* field, const std::string& doc);
+
+  /// Sets one option from text. Throws ConfigError naming `source` and the key when the key
+  /// is unknown or the value does not parse as the field's type.
+  void set(const std::string& key, const std::string& value, const std::string& source);
+  /// Applies every key of `values` (flat "section.key" names).
+  void apply(const std::map<std::string, std::string>& values, const std::string& source);
+  bool has(const std::string& key) const { return index_.count(key) > 0; }
+
+  /// The effective configuration as YAML: one section per prefix, a doc comment per key.
+  std::string toYaml(const std::string& header_comment = "") const;
+
+ private:
+  struct Entry {
+    std::string key, doc, type;
+    std::function<void(const std::string&)> set;  // throws std::invalid_argument on a bad value
+    std::function<std::string()> get;
+  };
+  void add(Entry e);
+  std::vector<Entry> entries_;
+  std::map<std::string, size_t> index_;
+};
+
+/// Parses the YAML subset used by plslam configuration files: nested mappings by
+/// indentation ("section:" then indented "key: value"), '#' comments, plain or quoted
+/// scalars. Returns flat "section.key" -> value. Sequences, anchors and multi-line
+/// scalars are refused with a ConfigError naming `source` and the line.
+std::map<std::string, std::string> parseYamlSubset(const std::string& content, const std::string& source);
+
+}  // namespace plslam

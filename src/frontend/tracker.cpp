@@ -1,0 +1,354 @@
+#include "frontend/tracker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/calib3d.hpp>
+#include <set>
+
+#include "core/log.h"
+#include "features/matching.h"
+
+namespace plslam {
+
+namespace {
+const Logger kLog("frontend");
+}
+
+const char* toString(TrackingStatus s) {
+  switch (s) {
+    case TrackingStatus::kInitialized: return "initialized";
+    case TrackingStatus::kOk: return "ok";
+    case TrackingStatus::kRelocalized: return "relocalized";
+    case TrackingStatus::kNotInitialized: return "not_initialized";
+    case TrackingStatus::kFewMatches: return "few_matches";
+    case TrackingStatus::kNoFeatures: return "no_features";
+  }
+  return "unknown";
+}
+
+Tracker::Tracker(Map* map, PinholeCamera camera, TrackerOptions options)
+    : map_(map), camera_(std::move(camera)), options_(options), optimizer_(options.optimizer) {}
+
+TrackingResult Tracker::track(TimeNs t_ns, const FrameFeatures& f) {
+  if (!have_last_) return initialise(t_ns, f);
+  TrackingResult r;
+  if (static_cast<int>(f.points.size()) + static_cast<int>(f.lines.size()) < options_.min_inliers) {
+    r.status = TrackingStatus::kNoFeatures;
+    r.reason = str(f.points.size(), " points and ", f.lines.size(), " lines in the image");
+  }
+  Matches m;
+  SE3 T_w_c;
+  bool ok = false;
+  if (r.reason.empty()) {
+    if (!lost_) {
+      T_w_c = have_velocity_ ? T_w_last_ * velocity_ : T_w_last_;
+      searchLocalMap(T_w_c, f, options_.wide_radius_px, &m, false);
+      PoseOnlyResult pr = optimise(T_w_c, f, &m);
+      if (pr.converged) {
+        T_w_c = pr.T_w_c;
+        searchLocalMap(T_w_c, f, options_.narrow_radius_px, &m, true);
+        pr = optimise(T_w_c, f, &m);
+        if (pr.converged) {
+          T_w_c = pr.T_w_c;
+          ok = pr.inliers >= options_.min_inliers;
+        }
+      }
+      r.inliers = pr.inliers;
+      if (!ok) r.reason = str("tracking: ", pr.inliers, " pose inliers (", toString(pr.status), ")");
+    } else {
+      ok = relocalise(f, &T_w_c, &m);
+      if (!ok) r.reason = "relocalisation failed";
+    }
+    r.status = ok ? (lost_ ? TrackingStatus::kRelocalized : TrackingStatus::kOk) : TrackingStatus::kFewMatches;
+  }
+  if (!ok) {
+    if (!lost_) {
+      ++lost_events_;
+      kLog.warn(str("lost at t=", formatSecondsStamp(t_ns), ": ", r.reason));
+    }
+    lost_ = true;
+    have_velocity_ = false;
+    return r;
+  }
+  if (lost_) {
+    ++relocalisations_;
+    kLog.info(str("relocalised at t=", formatSecondsStamp(t_ns)));
+  }
+  lost_ = false;
+  for (Id id : m.point_ids) r.matched_points += id != kNoId;
+  for (Id id : m.line_ids) r.matched_lines += id != kNoId;
+  r.inliers = r.matched_points + r.matched_lines;
+  r.T_w_c = T_w_c;
+  velocity_ = T_w_last_.inverse() * T_w_c;
+  have_velocity_ = true;
+  T_w_last_ = T_w_c;
+  ++frames_since_kf_;
+  if (needKeyframe(T_w_c, r.inliers, f, m)) {
+    r.keyframe_id = makeKeyframe(t_ns, T_w_c, f, m);
+    r.new_keyframe = true;
+  }
+  r.reference_keyframe = reference_kf_;
+  return r;
+}
+
+TrackingResult Tracker::initialise(TimeNs t_ns, const FrameFeatures& f) {
+  TrackingResult r;
+  int with_depth = 0;
+  for (const Keypoint& k : f.points)
+    with_depth += std::isfinite(k.depth_m) && k.depth_m > 0 && k.depth_m < options_.max_depth_m;
+  if (with_depth < options_.min_init_points) {
+    r.status = TrackingStatus::kNotInitialized;
+    r.reason = str(with_depth, " keypoints with depth, ", options_.min_init_points, " needed to initialise");
+    return r;
+  }
+  const SE3 T_w_c;  // the first keyframe defines the world frame
+  Matches none;
+  none.point_ids.assign(f.points.size(), kNoId);
+  none.line_ids.assign(f.lines.size(), kNoId);
+  r.keyframe_id = makeKeyframe(t_ns, T_w_c, f, none);
+  r.new_keyframe = true;
+  r.reference_keyframe = reference_kf_;
+  r.status = TrackingStatus::kInitialized;
+  r.T_w_c = T_w_c;
+  r.inliers = with_depth;
+  have_last_ = true;
+  T_w_last_ = T_w_c;
+  kLog.info(str("initialised at t=", formatSecondsStamp(t_ns), " with ", with_depth, " points"));
+  return r;
+}
+
+std::vector<Id> Tracker::localKeyframes() const {
+  // The reference keyframe, its best covisible keyframes and the most recent ones.
+  std::vector<Id> out;
+  std::set<Id> seen;
+  auto add = [&](Id id) {
+    if (static_cast<int>(out.size()) < options_.local_keyframes * 2 && seen.insert(id).second) out.push_back(id);
+  };
+  add(reference_kf_);
+  const auto cov = map_->covisible(reference_kf_, 15);
+  for (size_t i = 0; i < cov.size() && static_cast<int>(i) < options_.local_keyframes; ++i) add(cov[i].first);
+  const auto& kfs = map_->keyframes();
+  int recent = 0;
+  for (auto it = kfs.rbegin(); it != kfs.rend() && recent < options_.local_keyframes / 2; ++it, ++recent) add(it->first);
+  return out;
+}
+
+void Tracker::searchLocalMap(const SE3& T_w_c, const FrameFeatures& f, double radius, Matches* m, bool count_visible) {
+  std::lock_guard<std::mutex> lock(map_->mutex());
+  if (m->point_ids.size() != f.points.size()) m->point_ids.assign(f.points.size(), kNoId);
+  if (m->line_ids.size() != f.lines.size()) m->line_ids.assign(f.lines.size(), kNoId);
+  std::vector<Id> point_ids, line_ids;
+  {
+    std::set<Id> ps, ls;
+    for (Id kf : localKeyframes()) {
+      const KeyFrame* k = map_->keyframe(kf);
+      if (!k) continue;
+      for (Id p : k->point_ids)
+        if (p != kNoId && ps.insert(p).second) point_ids.push_back(p);
+      for (Id l : k->line_ids)
+        if (l != kNoId && ls.insert(l).second) line_ids.push_back(l);
+    }
+  }
+  const SE3 T_c_w = T_w_c.inverse();
+  ProjectionSearchOptions so;
+  so.radius_px = radius;
+  so.max_distance = options_.max_descriptor_distance;
+  so.ratio = options_.ratio;
+  std::vector<ProjectedPoint> projected;
+  projected.reserve(point_ids.size());
+  for (Id id : point_ids) {
+    const MapPoint* p = map_->point(id);
+    const Eigen::Vector3d p_c = T_c_w * p->p_w;
+    if (p_c.z() < 0.1) continue;
+    const Eigen::Vector2d uv = camera_.projectIdeal(p_c);
+    if (!camera_.inImage(uv)) continue;
+    projected.push_back({id, uv, p->descriptor});
+  }
+  const std::vector<int> kp_of = searchPointsByProjection(projected, f, so, m->point_ids);
+  for (size_t i = 0; i < projected.size(); ++i) {
+    MapPoint* p = map_->point(projected[i].id);
+    if (count_visible) ++p->visible;
+    if (kp_of[i] >= 0) m->point_ids[kp_of[i]] = projected[i].id;
+  }
+  if (!options_.use_lines || f.lines.empty()) return;
+  std::vector<ProjectedLine> plines;
+  for (Id id : line_ids) {
+    const MapLine* l = map_->line(id);
+    Eigen::Vector3d P = T_c_w * l->P_w, Q = T_c_w * l->Q_w;
+    if (P.z() < 0.1 && Q.z() < 0.1) continue;
+    // Clip the part behind the camera so the projection stays meaningful.
+    if (P.z() < 0.1) P = Q + (P - Q) * ((Q.z() - 0.1) / (Q.z() - P.z()));
+    if (Q.z() < 0.1) Q = P + (Q - P) * ((P.z() - 0.1) / (P.z() - Q.z()));
+    const Eigen::Vector2d p = camera_.projectIdeal(P), q = camera_.projectIdeal(Q);
+    if (!camera_.inImage(p) && !camera_.inImage(q) && !camera_.inImage(0.5 * (p + q))) continue;
+    plines.push_back({id, p, q, l->descriptor});
+  }
+  LineSearchOptions lo;
+  lo.angle_deg = options_.line_angle_deg;
+  lo.distance_px = options_.line_distance_px * radius / options_.narrow_radius_px * 0.5 + options_.line_distance_px * 0.5;
+  lo.max_distance = options_.max_line_descriptor_distance;
+  const std::vector<int> line_of = searchLinesByProjection(plines, f, lo, m->line_ids);
+  for (size_t i = 0; i < plines.size(); ++i) {
+    MapLine* l = map_->line(plines[i].id);
+    if (count_visible) ++l->visible;
+    if (line_of[i] >= 0) m->line_ids[line_of[i]] = plines[i].id;
+  }
+}
+
+PoseOnlyResult Tracker::optimise(const SE3& T_w_c, const FrameFeatures& f, Matches* m) const {
+  PoseOnlyProblem problem;
+  problem.T_w_c_init = T_w_c;
+  std::vector<int> point_index, line_index;
+  {
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    for (size_t i = 0; i < m->point_ids.size(); ++i) {
+      if (m->point_ids[i] == kNoId) continue;
+      const MapPoint* p = map_->point(m->point_ids[i]);
+      if (!p) {
+        m->point_ids[i] = kNoId;  // culled by the mapper meanwhile
+        continue;
+      }
+      PointObs o;
+      o.p_w = p->p_w;
+      o.uv = f.points[i].uv;
+      o.octave = f.points[i].octave;
+      o.depth = f.points[i].depth_m;
+      problem.points.push_back(o);
+      point_index.push_back(static_cast<int>(i));
+    }
+    for (size_t i = 0; i < m->line_ids.size(); ++i) {
+      if (m->line_ids[i] == kNoId) continue;
+      const MapLine* l = map_->line(m->line_ids[i]);
+      if (!l) {
+        m->line_ids[i] = kNoId;
+        continue;
+      }
+      LineObs o;
+      o.P_w = l->P_w;
+      o.Q_w = l->Q_w;
+      o.p = f.lines[i].p;
+      o.q = f.lines[i].q;
+      o.octave = f.lines[i].octave;
+      problem.lines.push_back(o);
+      line_index.push_back(static_cast<int>(i));
+    }
+  }
+  PoseOnlyResult r = optimizer_.optimize(camera_, problem);
+  if (r.converged) {
+    for (size_t k = 0; k < point_index.size(); ++k)
+      if (!r.point_inlier[k]) m->point_ids[point_index[k]] = kNoId;
+    for (size_t k = 0; k < line_index.size(); ++k)
+      if (!r.line_inlier[k]) m->line_ids[line_index[k]] = kNoId;
+  }
+  return r;
+}
+
+bool Tracker::relocalise(const FrameFeatures& f, SE3* T_w_c, Matches* m) {
+  if (f.points.size() < 30) return false;
+  std::vector<Id> candidates;
+  {
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    const auto& kfs = map_->keyframes();
+    int n = 0;
+    for (auto it = kfs.rbegin(); it != kfs.rend() && n < 8; ++it, ++n) candidates.push_back(it->first);
+  }
+  for (Id kf : candidates) {
+    std::vector<cv::Point3f> object;
+    std::vector<cv::Point2f> image;
+    std::vector<std::pair<int, Id>> pairs;  // (keypoint index, map point)
+    {
+      std::lock_guard<std::mutex> lock(map_->mutex());
+      const KeyFrame* k = map_->keyframe(kf);
+      if (!k) continue;
+      const std::vector<int> match = matchDescriptors(k->features.point_descriptors, f.point_descriptors,
+                                                      options_.max_descriptor_distance, options_.ratio);
+      for (size_t i = 0; i < match.size(); ++i) {
+        if (match[i] < 0 || k->point_ids[i] == kNoId) continue;
+        const MapPoint* p = map_->point(k->point_ids[i]);
+        if (!p) continue;
+        object.emplace_back(p->p_w.x(), p->p_w.y(), p->p_w.z());
+        image.emplace_back(f.points[match[i]].uv.x(), f.points[match[i]].uv.y());
+        pairs.emplace_back(match[i], p->id);
+      }
+    }
+    if (object.size() < 30) continue;
+    cv::Mat rvec, tvec;
+    std::vector<int> inliers;
+    if (!cv::solvePnPRansac(object, image, cv::Mat(camera_.K()), cv::noArray(), rvec, tvec, false, 200, 4.0f, 0.99,
+                            inliers, cv::SOLVEPNP_EPNP) ||
+        inliers.size() < 30)
+      continue;
+    cv::Mat R;
+    cv::Rodrigues(rvec, R);
+    Eigen::Matrix3d Re;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) Re(r, c) = R.at<double>(r, c);
+    const SE3 T_c_w(Re, Eigen::Vector3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2)));
+    Matches mm;
+    mm.point_ids.assign(f.points.size(), kNoId);
+    mm.line_ids.assign(f.lines.size(), kNoId);
+    for (int i : inliers) mm.point_ids[pairs[i].first] = pairs[i].second;
+    PoseOnlyResult pr = optimise(T_c_w.inverse(), f, &mm);
+    if (!pr.converged) continue;
+    searchLocalMap(pr.T_w_c, f, options_.narrow_radius_px, &mm, true);
+    pr = optimise(pr.T_w_c, f, &mm);
+    if (!pr.converged || pr.inliers < options_.min_inliers * 2) continue;
+    *T_w_c = pr.T_w_c;
+    *m = std::move(mm);
+    reference_kf_ = kf;
+    return true;
+  }
+  return false;
+}
+
+bool Tracker::needKeyframe(const SE3& T_w_c, int inliers, const FrameFeatures& /*f*/, const Matches& /*m*/) const {
+  if (frames_since_kf_ < options_.keyframe_min_frames) return false;
+  if (frames_since_kf_ >= options_.keyframe_max_frames) return true;
+  if (inliers < options_.keyframe_min_inliers) return true;
+  if (inliers < options_.keyframe_inlier_ratio * reference_kf_landmarks_) return true;
+  std::lock_guard<std::mutex> lock(map_->mutex());
+  const KeyFrame* ref = map_->keyframe(reference_kf_);
+  if (!ref) return true;
+  const SE3 T_ref_c = ref->T_w_c.inverse() * T_w_c;
+  return T_ref_c.translation().norm() > options_.keyframe_max_translation_m ||
+         T_ref_c.angle() * 180.0 / M_PI > options_.keyframe_max_rotation_deg;
+}
+
+Id Tracker::makeKeyframe(TimeNs t_ns, const SE3& T_w_c, const FrameFeatures& f, const Matches& m) {
+  std::lock_guard<std::mutex> lock(map_->mutex());
+  KeyFrame kf;
+  kf.t_ns = t_ns;
+  kf.T_w_c = T_w_c;
+  kf.features = f;
+  const Id id = map_->addKeyFrame(std::move(kf));
+  int tracked = 0, created = 0;
+  for (size_t i = 0; i < m.point_ids.size(); ++i) {
+    if (m.point_ids[i] == kNoId || !map_->point(m.point_ids[i])) continue;
+    map_->addPointObservation(id, static_cast<int>(i), m.point_ids[i]);
+    ++tracked;
+  }
+  for (size_t i = 0; i < m.line_ids.size(); ++i)
+    if (m.line_ids[i] != kNoId && map_->line(m.line_ids[i])) map_->addLineObservation(id, static_cast<int>(i), m.line_ids[i]);
+  // New map points straight from depth (RGB-D), so the next frames can track them even
+  // before the local mapper has processed this keyframe.
+  for (size_t i = 0; i < f.points.size(); ++i) {
+    const Keypoint& k = f.points[i];
+    if (m.point_ids.size() > i && m.point_ids[i] != kNoId) continue;
+    if (!(std::isfinite(k.depth_m) && k.depth_m > 0 && k.depth_m < options_.max_depth_m)) continue;
+    MapPoint p;
+    p.p_w = T_w_c * camera_.unprojectIdeal(k.uv, k.depth_m);
+    p.descriptor = f.point_descriptors.row(static_cast<int>(i)).clone();
+    p.first_keyframe = id;
+    const Id pid = map_->addPoint(std::move(p));
+    map_->addPointObservation(id, static_cast<int>(i), pid);
+    ++created;
+  }
+  reference_kf_ = id;
+  // What later frames are compared with: the landmarks this keyframe was tracked with
+  // (the first keyframe has only the ones it created).
+  reference_kf_landmarks_ = tracked > 0 ? tracked : created;
+  frames_since_kf_ = 0;
+  return id;
+}
+
+}  // namespace plslam

@@ -1,0 +1,110 @@
+// Frame-by-frame camera tracking against the local map (points and lines).
+//
+// Per frame: features are given (extracted by the caller with the dynamic mask); the
+// pose is predicted with a constant-velocity model, map points and lines of the local
+// keyframes are projected and matched in a wide window, the pose is optimised (points
+// with depth and lines, robust), then matched again in a narrow window and re-optimised.
+// When too few inliers remain the frame is lost and relocalisation (descriptor matching
+// against recent keyframes + PnP RANSAC) is tried on the following frames.
+//
+// Thread safety: one Tracker per pipeline, called from one thread; it locks the map's
+// mutex while it reads landmarks.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "camera/pinhole_camera.h"
+#include "core/map.h"
+#include "optim/pose_optimizer.h"
+
+namespace plslam {
+
+enum class TrackingStatus {
+  kInitialized,    ///< first usable frame: the map was created from its depth
+  kOk,             ///< tracked
+  kRelocalized,    ///< tracked again after being lost
+  kNotInitialized, ///< no map yet and this frame cannot start one (reason says why)
+  kFewMatches,     ///< too few matches or inliers: lost
+  kNoFeatures,     ///< no (or too few) features in the image: lost
+};
+const char* toString(TrackingStatus status);
+inline bool isTracked(TrackingStatus s) {
+  return s == TrackingStatus::kInitialized || s == TrackingStatus::kOk || s == TrackingStatus::kRelocalized;
+}
+
+struct TrackerOptions {
+  int min_init_points = 50;          ///< keypoints with valid depth needed to initialise
+  double max_depth_m = 6.0;          ///< keypoints farther than this make no map points
+  int min_inliers = 20;              ///< fewer pose inliers (points + lines) -> lost
+  double wide_radius_px = 15.0;      ///< projection search radius with the motion-model pose
+  double narrow_radius_px = 5.0;     ///< projection search radius after the first optimisation
+  int max_descriptor_distance = 75;  ///< Hamming distance accepted for ORB matches
+  float ratio = 0.85f;               ///< best / second-best Hamming ratio
+  int max_line_descriptor_distance = 80;  ///< Hamming distance accepted for LBD matches
+  double line_angle_deg = 8.0;       ///< max angle between a projected map line and a segment
+  double line_distance_px = 8.0;     ///< max distance of a segment's endpoints to the projected line
+  int local_keyframes = 12;          ///< keyframes whose landmarks form the local map
+  int keyframe_max_frames = 20;      ///< a keyframe at least this often (frames)
+  int keyframe_min_frames = 2;       ///< and never more often than this
+  double keyframe_inlier_ratio = 0.75;  ///< new keyframe when inliers < ratio * reference keyframe's landmarks
+  int keyframe_min_inliers = 120;    ///< or when fewer inliers than this remain
+  double keyframe_max_translation_m = 0.15;  ///< or when the camera moved this far from the reference keyframe
+  double keyframe_max_rotation_deg = 12.0;   ///< or turned this much
+  bool use_lines = true;             ///< use line features
+  PoseOptimizerOptions optimizer;    ///< pose-only optimisation
+};
+
+/// What track() did with one frame.
+struct TrackingResult {
+  TrackingStatus status = TrackingStatus::kNotInitialized;
+  std::string reason;         ///< why, when not tracked
+  SE3 T_w_c;                  ///< valid when tracked
+  bool new_keyframe = false;  ///< a keyframe was made from this frame (id in keyframe_id)
+  Id keyframe_id = kNoId;
+  Id reference_keyframe = kNoId;  ///< the keyframe the pose is kept relative to
+  int matched_points = 0, matched_lines = 0;
+  int inliers = 0;
+};
+
+class Tracker {
+ public:
+  Tracker(Map* map, PinholeCamera camera, TrackerOptions options);
+
+  /// Tracks one frame. `features` are in the frame's ideal pixels with depth filled in.
+  /// On a new keyframe the keyframe is added to the map (with its matched landmarks)
+  /// and its id returned in the result; making its new landmarks is the mapper's job.
+  TrackingResult track(TimeNs t_ns, const FrameFeatures& features);
+
+  int lostEvents() const { return lost_events_; }
+  int relocalisations() const { return relocalisations_; }
+  const TrackerOptions& options() const { return options_; }
+
+ private:
+  struct Matches {
+    std::vector<Id> point_ids;  // per keypoint
+    std::vector<Id> line_ids;   // per line
+  };
+  TrackingResult initialise(TimeNs t_ns, const FrameFeatures& f);
+  std::vector<Id> localKeyframes() const;
+  void searchLocalMap(const SE3& T_w_c, const FrameFeatures& f, double radius, Matches* m, bool count_visible);
+  PoseOnlyResult optimise(const SE3& T_w_c, const FrameFeatures& f, Matches* m) const;
+  bool relocalise(const FrameFeatures& f, SE3* T_w_c, Matches* m);
+  bool needKeyframe(const SE3& T_w_c, int inliers, const FrameFeatures& f, const Matches& m) const;
+  Id makeKeyframe(TimeNs t_ns, const SE3& T_w_c, const FrameFeatures& f, const Matches& m);
+
+  Map* map_;
+  PinholeCamera camera_;
+  TrackerOptions options_;
+  PoseOptimizer optimizer_;
+
+  bool have_last_ = false, have_velocity_ = false, lost_ = false;
+  SE3 T_w_last_, velocity_;  // velocity_ = T_prev_last (last frame in the previous frame)
+  Id reference_kf_ = kNoId;
+  int frames_since_kf_ = 0;
+  int reference_kf_landmarks_ = 0;
+  int lost_events_ = 0, relocalisations_ = 0;
+};
+
+}  // namespace plslam

@@ -1,0 +1,194 @@
+#include "mapping/local_mapper.h"
+
+#include <algorithm>
+#include <map>
+#include <set>
+
+#include "core/log.h"
+
+namespace plslam {
+
+namespace {
+const Logger kLog("mapping");
+}
+
+LocalMapper::LocalMapper(Map* map, PinholeCamera camera, LocalMapperOptions options)
+    : map_(map), camera_(std::move(camera)), options_(options), adjuster_(options.ba) {}
+
+void LocalMapper::processKeyframe(Id keyframe, const cv::Mat& depth_m) {
+  if (options_.use_lines) createLines(keyframe, depth_m);
+  if (options_.local_ba) localBundleAdjustment(keyframe);
+  cull(keyframe);
+}
+
+void LocalMapper::createLines(Id keyframe, const cv::Mat& depth_m) {
+  std::vector<Segment2D> segments;
+  std::vector<Id> line_ids;
+  SE3 T_w_c;
+  {
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    const KeyFrame* kf = map_->keyframe(keyframe);
+    if (!kf) return;
+    segments = kf->features.lines;
+    line_ids = kf->line_ids;
+    T_w_c = kf->T_w_c;
+  }
+  if (segments.empty() || depth_m.empty()) return;
+  // Both methods are tried on every segment so that the two rates compare like with like;
+  // only fitted segments not yet matched to a map line become new map lines.
+  int built_fit = 0, built_end = 0;
+  std::vector<std::pair<int, LineSegment3D>> fresh;
+  for (size_t i = 0; i < segments.size(); ++i) {
+    const auto fitted = fitLine3D(segments[i].p_raw, segments[i].q_raw, depth_m, camera_, options_.line_fit);
+    built_fit += fitted.has_value();
+    built_end += backprojectEndpoints(segments[i].p_raw, segments[i].q_raw, depth_m, camera_, options_.line_fit).has_value();
+    if (fitted && line_ids[i] == kNoId) fresh.emplace_back(static_cast<int>(i), *fitted);
+  }
+  stats_.rate_fitting.add(built_fit, static_cast<int>(segments.size()));
+  stats_.rate_endpoints.add(built_end, static_cast<int>(segments.size()));
+
+  std::lock_guard<std::mutex> lock(map_->mutex());
+  KeyFrame* kf = map_->keyframe(keyframe);
+  if (!kf) return;
+  for (const auto& [index, seg] : fresh) {
+    MapLine l;
+    l.P_w = T_w_c * seg.P_c;
+    l.Q_w = T_w_c * seg.Q_c;
+    l.descriptor = kf->features.line_descriptors.row(index).clone();
+    l.first_keyframe = keyframe;
+    const Id id = map_->addLine(std::move(l));
+    map_->addLineObservation(keyframe, index, id);
+    ++stats_.lines_created;
+  }
+}
+
+void LocalMapper::localBundleAdjustment(Id keyframe) {
+  BundleProblem problem;
+  std::vector<Id> kf_ids, point_ids, line_ids;
+  {
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    if (!map_->keyframe(keyframe)) return;
+    std::vector<Id> free_kfs{keyframe};
+    for (const auto& [id, shared] : map_->covisible(keyframe, options_.min_covisible_points)) {
+      if (static_cast<int>(free_kfs.size()) >= options_.ba_keyframes) break;
+      free_kfs.push_back(id);
+    }
+    std::map<Id, int> kf_index, pt_index, ln_index;
+    for (Id id : free_kfs) {
+      kf_index[id] = static_cast<int>(problem.keyframes.size());
+      kf_ids.push_back(id);
+      problem.keyframes.push_back({map_->keyframe(id)->T_w_c, false});
+    }
+    // The first keyframe anchors the world frame.
+    if (kf_index.count(map_->keyframes().begin()->first)) problem.keyframes[kf_index[map_->keyframes().begin()->first]].fixed = true;
+    for (Id id : free_kfs) {
+      const KeyFrame* kf = map_->keyframe(id);
+      for (Id p : kf->point_ids)
+        if (p != kNoId && !pt_index.count(p)) {
+          pt_index[p] = static_cast<int>(problem.points.size());
+          point_ids.push_back(p);
+          problem.points.push_back({map_->point(p)->p_w, false});
+        }
+      if (options_.use_lines)
+        for (Id l : kf->line_ids)
+          if (l != kNoId && !ln_index.count(l)) {
+            ln_index[l] = static_cast<int>(problem.lines.size());
+            line_ids.push_back(l);
+            const MapLine* ml = map_->line(l);
+            problem.lines.push_back({ml->P_w, ml->Q_w, false});
+          }
+    }
+    auto keyframeIndex = [&](Id id) -> int {
+      auto it = kf_index.find(id);
+      if (it != kf_index.end()) return it->second;
+      int fixed = 0;
+      for (const auto& k : problem.keyframes) fixed += k.fixed;
+      if (fixed >= options_.ba_fixed_keyframes + 1) return -1;
+      kf_index[id] = static_cast<int>(problem.keyframes.size());
+      kf_ids.push_back(id);
+      problem.keyframes.push_back({map_->keyframe(id)->T_w_c, true});
+      return kf_index[id];
+    };
+    for (size_t i = 0; i < point_ids.size(); ++i) {
+      for (const auto& [kf, idx] : map_->point(point_ids[i])->observations) {
+        const int k = keyframeIndex(kf);
+        if (k < 0) continue;
+        const Keypoint& kp = map_->keyframe(kf)->features.points[idx];
+        problem.point_obs.push_back({k, static_cast<int>(i), kp.uv, kp.octave, kp.depth_m});
+      }
+    }
+    for (size_t i = 0; i < line_ids.size(); ++i) {
+      for (const auto& [kf, idx] : map_->line(line_ids[i])->observations) {
+        const int k = keyframeIndex(kf);
+        if (k < 0) continue;
+        const Segment2D& s = map_->keyframe(kf)->features.lines[idx];
+        problem.line_obs.push_back({k, static_cast<int>(i), s.p, s.q, s.octave});
+      }
+    }
+  }
+  if (problem.point_obs.empty()) return;
+  const BundleResult r = adjuster_.adjust(camera_, problem);
+  ++stats_.ba_runs;
+  stats_.ba_ms.push_back(r.time_ms);
+  if (!r.ok()) {
+    kLog.debug(str("local BA at keyframe ", keyframe, ": ", toString(r.status)));
+    return;
+  }
+  std::lock_guard<std::mutex> lock(map_->mutex());
+  for (size_t k = 0; k < kf_ids.size(); ++k)
+    if (!problem.keyframes[k].fixed)
+      if (KeyFrame* kf = map_->keyframe(kf_ids[k])) kf->T_w_c = r.T_w_c[k];
+  for (size_t i = 0; i < point_ids.size(); ++i)
+    if (MapPoint* p = map_->point(point_ids[i])) p->p_w = r.points[i];
+  for (size_t i = 0; i < line_ids.size(); ++i)
+    if (MapLine* l = map_->line(line_ids[i])) {
+      l->P_w = r.lines[i].first;
+      l->Q_w = r.lines[i].second;
+    }
+  // Outlying observations are dropped (the landmark stays if others support it).
+  for (size_t o = 0; o < problem.point_obs.size(); ++o) {
+    if (!r.point_obs_outlier[o]) continue;
+    const auto& obs = problem.point_obs[o];
+    MapPoint* p = map_->point(point_ids[obs.point]);
+    KeyFrame* kf = map_->keyframe(kf_ids[obs.keyframe]);
+    if (!p || !kf) continue;
+    auto it = p->observations.find(kf->id);
+    if (it == p->observations.end()) continue;
+    kf->point_ids[it->second] = kNoId;
+    p->observations.erase(it);
+    if (p->observations.empty()) map_->erasePoint(p->id);
+  }
+  for (size_t o = 0; o < problem.line_obs.size(); ++o) {
+    if (!r.line_obs_outlier[o]) continue;
+    const auto& obs = problem.line_obs[o];
+    MapLine* l = map_->line(line_ids[obs.line]);
+    KeyFrame* kf = map_->keyframe(kf_ids[obs.keyframe]);
+    if (!l || !kf) continue;
+    auto it = l->observations.find(kf->id);
+    if (it == l->observations.end()) continue;
+    kf->line_ids[it->second] = kNoId;
+    l->observations.erase(it);
+    if (l->observations.empty()) map_->eraseLine(l->id);
+  }
+}
+
+void LocalMapper::cull(Id keyframe) {
+  std::lock_guard<std::mutex> lock(map_->mutex());
+  std::vector<Id> bad_points, bad_lines;
+  for (const auto& [id, p] : map_->points()) {
+    const bool rarely_found = p.visible >= options_.cull_min_visible && p.found < options_.cull_found_ratio * p.visible;
+    const bool lonely = p.observations.size() < 2 && keyframe - p.first_keyframe >= options_.cull_single_after;
+    if (rarely_found || lonely) bad_points.push_back(id);
+  }
+  for (const auto& [id, l] : map_->lines()) {
+    const bool rarely_found = l.visible >= options_.cull_min_visible && l.found < options_.cull_found_ratio * l.visible;
+    const bool lonely = l.observations.size() < 2 && keyframe - l.first_keyframe >= options_.cull_single_after;
+    if (rarely_found || lonely) bad_lines.push_back(id);
+  }
+  for (Id id : bad_points) map_->erasePoint(id);
+  for (Id id : bad_lines) map_->eraseLine(id);
+  stats_.points_culled += static_cast<int>(bad_points.size());
+  stats_.lines_culled += static_cast<int>(bad_lines.size());
+}
+
+}  // namespace plslam

@@ -1,0 +1,64 @@
+// Local mapping: for each new keyframe, 3D map lines by fitting depth samples along its
+// unmatched segments (the endpoint method runs beside it only to measure the average
+// reconstruction rate of both), a local bundle adjustment of the keyframe, its covisible
+// keyframes, their points and lines (Ceres), and culling of landmarks that tracking
+// rarely finds again.
+//
+// Thread safety: processKeyframe() runs on one thread (the mapping thread, or the
+// caller's in sequential mode); it takes the map's mutex only to read a snapshot and to
+// write results back, never while Ceres runs.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "camera/pinhole_camera.h"
+#include "core/map.h"
+#include "mapping/line_reconstruction.h"
+#include "optim/bundle_adjuster.h"
+
+namespace plslam {
+
+struct LocalMapperOptions {
+  bool use_lines = true;           ///< build and optimise 3D lines
+  bool local_ba = true;            ///< run the local bundle adjustment
+  int ba_keyframes = 8;            ///< keyframes optimised together: the new one and its best covisible ones
+  int ba_fixed_keyframes = 16;     ///< at most this many further keyframes held fixed around them
+  int min_covisible_points = 15;   ///< shared points that make two keyframes covisible
+  double cull_found_ratio = 0.25;  ///< a landmark found in fewer than this fraction of the frames it was predicted in is culled
+  int cull_min_visible = 6;        ///< ... once it was predicted this often
+  int cull_single_after = 3;       ///< a point seen by one keyframe only is culled this many keyframes later
+  LineFitOptions line_fit;         ///< line fitting (and endpoint method) parameters
+  BundleAdjusterOptions ba;        ///< local bundle adjustment
+};
+
+/// Figures the mapper keeps for the run's statistics.
+struct MapperStats {
+  LineReconstructionRate rate_fitting;    ///< 3D segments built / 2D segments used, per keyframe, by fitting
+  LineReconstructionRate rate_endpoints;  ///< the same by endpoint back-projection
+  int lines_created = 0;
+  int points_culled = 0, lines_culled = 0;
+  int ba_runs = 0;
+  std::vector<double> ba_ms;
+};
+
+class LocalMapper {
+ public:
+  LocalMapper(Map* map, PinholeCamera camera, LocalMapperOptions options);
+  /// `depth_m` is the keyframe's depth image (metres, NaN = none), needed for line fitting.
+  void processKeyframe(Id keyframe, const cv::Mat& depth_m);
+  const MapperStats& stats() const { return stats_; }
+
+ private:
+  void createLines(Id keyframe, const cv::Mat& depth_m);
+  void localBundleAdjustment(Id keyframe);
+  void cull(Id keyframe);
+
+  Map* map_;
+  PinholeCamera camera_;
+  LocalMapperOptions options_;
+  LocalBundleAdjuster adjuster_;
+  MapperStats stats_;
+};
+
+}  // namespace plslam

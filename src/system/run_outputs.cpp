@@ -1,0 +1,87 @@
+#include "system/run_outputs.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <numeric>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "io/trajectory_file.h"
+
+namespace plslam {
+
+Summary summarize(std::vector<double> v) {
+  Summary s;
+  if (v.empty()) return s;
+  std::sort(v.begin(), v.end());
+  s.median = v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+  s.mean = std::accumulate(v.begin(), v.end(), 0.0) / v.size();
+  s.p95 = v[std::min(v.size() - 1, static_cast<size_t>(std::ceil(0.95 * v.size())) - 1)];
+  return s;
+}
+
+namespace {
+std::string summaryJson(const std::vector<double>& v) {
+  const Summary s = summarize(v);
+  std::ostringstream os;
+  os.precision(6);
+  os << "{\"median\": " << s.median << ", \"mean\": " << s.mean << ", \"p95\": " << s.p95 << "}";
+  return os.str();
+}
+}  // namespace
+
+std::string statsToJson(const RunStats& s, const std::string& extra) {
+  std::ostringstream os;
+  os.precision(6);
+  os << "{\n  \"frames\": " << s.frames << ",\n  \"tracked\": " << s.tracked
+     << ",\n  \"tracked_fraction\": " << (s.frames ? static_cast<double>(s.tracked) / s.frames : 0.0)
+     << ",\n  \"keyframes\": " << s.keyframes << ",\n  \"lost_events\": " << s.lost_events
+     << ",\n  \"relocalisations\": " << s.relocalisations << ",\n  \"map_points\": " << s.map_points
+     << ",\n  \"map_lines\": " << s.map_lines << ",\n  \"tracking_ms\": " << summaryJson(s.tracking_ms)
+     << ",\n  \"features_ms\": " << summaryJson(s.features_ms) << ",\n  \"local_ba_ms\": " << summaryJson(s.ba_ms)
+     << ",\n  \"line_reconstruction_rate\": {\"fitting\": " << s.line_rate_fitting
+     << ", \"endpoints\": " << s.line_rate_endpoints << ", \"keyframes\": " << s.line_rate_keyframes << "}"
+     << ",\n  \"modules\": {\"lines\": " << (s.use_lines ? "true" : "false")
+     << ", \"dynamic\": false, \"loop_closure\": false, \"sequential\": " << (s.sequential ? "true" : "false") << "}";
+  if (!extra.empty()) os << ",\n  " << extra;
+  os << "\n}\n";
+  return os.str();
+}
+
+std::string sparseMapToPly(const Map& map) {
+  std::lock_guard<std::mutex> lock(map.mutex());
+  const size_t np = map.points().size(), nl = map.lines().size();
+  std::ostringstream os;
+  os << "ply\nformat ascii 1.0\ncomment plslam sparse map: points (grey), 3D line endpoints (red), lines as edges\n"
+     << "element vertex " << np + 2 * nl << "\nproperty float x\nproperty float y\nproperty float z\n"
+     << "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+     << "element edge " << nl << "\nproperty int vertex1\nproperty int vertex2\nend_header\n";
+  char buf[128];
+  for (const auto& [id, p] : map.points()) {
+    std::snprintf(buf, sizeof(buf), "%.5f %.5f %.5f 160 160 160\n", p.p_w.x(), p.p_w.y(), p.p_w.z());
+    os << buf;
+  }
+  for (const auto& [id, l] : map.lines()) {
+    for (const Eigen::Vector3d& e : {l.P_w, l.Q_w}) {
+      std::snprintf(buf, sizeof(buf), "%.5f %.5f %.5f 230 40 40\n", e.x(), e.y(), e.z());
+      os << buf;
+    }
+  }
+  for (size_t i = 0; i < nl; ++i) os << np + 2 * i << " " << np + 2 * i + 1 << "\n";
+  return os.str();
+}
+
+void writeRunOutputs(const std::string& dir, const System& system, const std::string& config_yaml,
+                     const std::string& stats_extra) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (!std::filesystem::is_directory(dir)) throw IoError(dir + ": cannot create the output folder");
+  writeTumTrajectory(dir + "/trajectory.txt", system.trajectory(), "plslam trajectory: every tracked frame, T_w_c");
+  writeTumTrajectory(dir + "/keyframes.txt", system.keyframeTrajectory(), "plslam keyframes, T_w_c");
+  writeFileAtomically(dir + "/sparse_map.ply", sparseMapToPly(system.map()));
+  writeFileAtomically(dir + "/stats.json", statsToJson(system.stats(), stats_extra));
+  if (!config_yaml.empty()) writeFileAtomically(dir + "/config.yaml", config_yaml);
+}
+
+}  // namespace plslam

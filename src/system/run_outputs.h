@@ -1,0 +1,33 @@
+// What a run leaves in its output folder, each file written atomically:
+//   trajectory.txt   TUM format, every tracked frame, final poses (T_w_c)
+//   keyframes.txt    TUM format, keyframe poses
+//   sparse_map.ply   ASCII PLY: map points (grey) and 3D line endpoints (red) as vertices,
+//                    each 3D line an `edge` between its two endpoints (PCL, CloudCompare,
+//                    MeshLab and Open3D read the vertices; CloudCompare/MeshLab draw the edges)
+//   stats.json       run figures (see RunStats)
+//   config.yaml      the effective configuration
+#pragma once
+
+#include <string>
+
+#include "system/system.h"
+
+namespace plslam {
+
+/// Statistics as one JSON object. `extra` (JSON members without braces, may be empty) is
+/// appended for the caller's own fields (dataset, ATE...).
+std::string statsToJson(const RunStats& stats, const std::string& extra = "");
+/// The sparse map as ASCII PLY (points and lines, see above).
+std::string sparseMapToPly(const Map& map);
+/// Writes trajectory.txt, keyframes.txt, sparse_map.ply, stats.json (and config.yaml when
+/// `config_yaml` is not empty) into `dir` (created if needed).
+void writeRunOutputs(const std::string& dir, const System& system, const std::string& config_yaml,
+                     const std::string& stats_extra = "");
+
+/// Median / mean / 95th percentile of `v` (0 when empty).
+struct Summary {
+  double median = 0, mean = 0, p95 = 0;
+};
+Summary summarize(std::vector<double> v);
+
+}  // namespace plslam

@@ -1,0 +1,133 @@
+#include "system/system.h"
+
+#include <chrono>
+#include <thread>
+
+#include "core/bounded_queue.h"
+#include "core/error.h"
+#include "core/log.h"
+
+namespace plslam {
+
+namespace {
+const Logger kLog("system");
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+struct System::Pipeline {
+  struct KeyframeJob {
+    Id keyframe;
+    cv::Mat depth_m;
+  };
+  Pipeline(Map* map, const PinholeCamera& camera, const SystemOptions& o)
+      : tracker(map, camera, o.tracker), mapper(map, camera, o.mapper), queue(o.mapping_queue, QueuePolicy::kBlock) {}
+  Tracker tracker;
+  LocalMapper mapper;
+  BoundedQueue<KeyframeJob> queue;
+  std::thread mapping_thread;
+  bool started = false, finished = false;
+};
+
+System::System(PinholeCamera camera, SystemOptions options) : camera_(std::move(camera)), options_(std::move(options)) {
+  options_.tracker.use_lines = options_.use_lines;
+  options_.mapper.use_lines = options_.use_lines;
+  options_.features.use_lines = options_.use_lines;
+  pipeline_ = std::make_unique<Pipeline>(&map_, camera_, options_);
+}
+
+System::~System() {
+  if (pipeline_ && pipeline_->started && !pipeline_->finished) finish();
+}
+
+void System::start() {
+  if (pipeline_->started) return;
+  pipeline_->started = true;
+  if (options_.sequential) return;
+  pipeline_->mapping_thread = std::thread([p = pipeline_.get()] {
+    while (auto job = p->queue.pop()) p->mapper.processKeyframe(job->keyframe, job->depth_m);
+  });
+}
+
+TrackingResult System::feed(const RgbdFrame& frame, const cv::Mat& mask) {
+  if (!pipeline_->started) start();
+  if (pipeline_->finished) throw Error("System::feed after finish()");
+  const auto t0 = std::chrono::steady_clock::now();
+  FrameRecord rec;
+  rec.t_ns = frame.t_ns;
+  const FrameFeatures f = extractFeatures(frame, mask, camera_, options_.features);
+  rec.features_ms = msSince(t0);
+  const TrackingResult r = pipeline_->tracker.track(frame.t_ns, f);
+  rec.tracking_ms = msSince(t0);
+  rec.status = r.status;
+  rec.points = static_cast<int>(f.points.size());
+  rec.lines = static_cast<int>(f.lines.size());
+  rec.matched_points = r.matched_points;
+  rec.matched_lines = r.matched_lines;
+  if (isTracked(r.status)) {
+    std::lock_guard<std::mutex> lock(map_.mutex());
+    rec.reference_keyframe = r.reference_keyframe;
+    rec.T_ref_c = map_.keyframe(r.reference_keyframe)->T_w_c.inverse() * r.T_w_c;
+  }
+  records_.push_back(rec);
+  if (r.new_keyframe) {
+    if (options_.sequential) pipeline_->mapper.processKeyframe(r.keyframe_id, frame.depth_m);
+    else pipeline_->queue.push({r.keyframe_id, frame.depth_m});
+  }
+  return r;
+}
+
+void System::finish() {
+  if (!pipeline_->started || pipeline_->finished) return;
+  pipeline_->finished = true;
+  pipeline_->queue.close();
+  if (pipeline_->mapping_thread.joinable()) pipeline_->mapping_thread.join();
+}
+
+Trajectory System::trajectory() const {
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  Trajectory out;
+  for (const FrameRecord& r : records_) {
+    if (r.reference_keyframe == kNoId) continue;
+    const KeyFrame* kf = map_.keyframe(r.reference_keyframe);
+    if (kf) out.push_back({r.t_ns, kf->T_w_c * r.T_ref_c});
+  }
+  return out;
+}
+
+Trajectory System::keyframeTrajectory() const {
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  Trajectory out;
+  for (const auto& [id, kf] : map_.keyframes()) out.push_back({kf.t_ns, kf.T_w_c});
+  return out;
+}
+
+RunStats System::stats() const {
+  RunStats s;
+  s.frames = static_cast<int>(records_.size());
+  for (const FrameRecord& r : records_) {
+    s.tracked += isTracked(r.status);
+    s.tracking_ms.push_back(r.tracking_ms);
+    s.features_ms.push_back(r.features_ms);
+  }
+  s.lost_events = pipeline_->tracker.lostEvents();
+  s.relocalisations = pipeline_->tracker.relocalisations();
+  {
+    std::lock_guard<std::mutex> lock(map_.mutex());
+    s.keyframes = static_cast<int>(map_.keyframes().size());
+    s.map_points = static_cast<int>(map_.points().size());
+    s.map_lines = static_cast<int>(map_.lines().size());
+  }
+  const MapperStats& m = pipeline_->mapper.stats();
+  s.line_rate_fitting = m.rate_fitting.average();
+  s.line_rate_endpoints = m.rate_endpoints.average();
+  s.line_rate_keyframes = m.rate_fitting.frames();
+  s.ba_ms = m.ba_ms;
+  s.use_lines = options_.use_lines;
+  s.sequential = options_.sequential;
+  return s;
+}
+
+}  // namespace plslam

@@ -1,0 +1,97 @@
+// The facade of the SLAM pipeline: feed frames, get poses; finish; read the trajectory,
+// the map and the run statistics.
+//
+//   System slam(camera, options);
+//   slam.start();
+//   for (frame : source) slam.feed(frame);
+//   slam.finish();
+//   slam.trajectory();  // every tracked frame, final (optimised) poses
+//
+// Two modes: threaded (tracking on the caller's thread, local mapping on its own,
+// connected by a bounded queue), and sequential (the same stages, run in a fixed order
+// on the caller's thread: deterministic, for tests and reproducible figures).
+//
+// Thread safety: start/feed/finish from one thread; the accessors after finish().
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "camera/pinhole_camera.h"
+#include "core/frame.h"
+#include "core/map.h"
+#include "core/option_table.h"
+#include "core/trajectory.h"
+#include "frontend/feature_extraction.h"
+#include "frontend/tracker.h"
+#include "mapping/local_mapper.h"
+
+namespace plslam {
+
+struct SystemOptions {
+  bool sequential = false;      ///< run every stage on the caller's thread in a fixed order (deterministic)
+  bool use_lines = true;        ///< use line features (tracking, mapping)
+  int mapping_queue = 8;        ///< keyframes waiting for the local mapper before tracking waits
+  FeatureOptions features;      ///< ORB and line extraction
+  TrackerOptions tracker;       ///< tracking
+  LocalMapperOptions mapper;    ///< local mapping
+};
+
+/// Binds every field of `options` that a configuration file may set.
+void bindOptions(OptionTable* table, SystemOptions* options);
+
+/// One input frame's outcome, for the trajectory and the statistics.
+struct FrameRecord {
+  TimeNs t_ns = 0;
+  TrackingStatus status = TrackingStatus::kNotInitialized;
+  Id reference_keyframe = kNoId;
+  SE3 T_ref_c;              ///< pose relative to the reference keyframe (so BA corrections carry over)
+  double tracking_ms = 0;   ///< from the frame's arrival to its pose (features included)
+  double features_ms = 0;   ///< feature extraction alone
+  int points = 0, lines = 0, matched_points = 0, matched_lines = 0;
+};
+
+struct RunStats {
+  int frames = 0, tracked = 0, keyframes = 0, lost_events = 0, relocalisations = 0;
+  int map_points = 0, map_lines = 0;
+  double line_rate_fitting = 0, line_rate_endpoints = 0;
+  int line_rate_keyframes = 0;
+  std::vector<double> tracking_ms, features_ms, ba_ms;
+  bool use_lines = true, sequential = false;
+};
+
+class System {
+ public:
+  System(PinholeCamera camera, SystemOptions options);
+  ~System();
+  System(const System&) = delete;
+  System& operator=(const System&) = delete;
+
+  void start();
+  /// Tracks one frame; `mask` (CV_8U, 0 = forbidden) keeps features off regions such as
+  /// moving objects. Frames must come in time order.
+  TrackingResult feed(const RgbdFrame& frame, const cv::Mat& mask = cv::Mat());
+  /// Waits for the local mapper to process every queued keyframe, then stops it.
+  void finish();
+
+  /// Every tracked frame with its final pose (reference keyframe pose * relative pose).
+  Trajectory trajectory() const;
+  /// Keyframe poses, in id order.
+  Trajectory keyframeTrajectory() const;
+  RunStats stats() const;
+  const Map& map() const { return map_; }
+  const std::vector<FrameRecord>& records() const { return records_; }
+  const PinholeCamera& camera() const { return camera_; }
+  const SystemOptions& options() const { return options_; }
+
+ private:
+  struct Pipeline;
+  PinholeCamera camera_;
+  SystemOptions options_;
+  Map map_;
+  std::unique_ptr<Pipeline> pipeline_;
+  std::vector<FrameRecord> records_;
+};
+
+}  // namespace plslam
