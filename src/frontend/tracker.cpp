@@ -6,7 +6,7 @@
 #include <set>
 
 #include "core/log.h"
-#include "features/matching.h"
+#include "frontend/projection_search.h"
 
 namespace plslam {
 
@@ -75,10 +75,19 @@ TrackingResult Tracker::track(TimeNs t_ns, const FrameFeatures& f) {
     kLog.info(str("relocalised at t=", formatSecondsStamp(t_ns)));
   }
   lost_ = false;
-  for (Id id : m.point_ids) r.matched_points += id != kNoId;
-  for (Id id : m.line_ids) r.matched_lines += id != kNoId;
+  {
+    // Landmarks predicted in view were counted as visible in the search; these were found.
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    for (Id id : m.point_ids)
+      if (MapPoint* p = id == kNoId ? nullptr : map_->point(id)) ++p->found, ++r.matched_points;
+    for (Id id : m.line_ids)
+      if (MapLine* l = id == kNoId ? nullptr : map_->line(id)) ++l->found, ++r.matched_lines;
+  }
   r.inliers = r.matched_points + r.matched_lines;
   r.T_w_c = T_w_c;
+  if (kLog.enabled(LogLevel::kDebug))
+    kLog.debug(str("t=", formatSecondsStamp(t_ns), " points ", f.points.size(), " matched ", r.matched_points, " lines ",
+                   f.lines.size(), " matched ", r.matched_lines, " moved ", (T_w_last_.inverse() * T_w_c).translation().norm()));
   velocity_ = T_w_last_.inverse() * T_w_c;
   have_velocity_ = true;
   T_w_last_ = T_w_c;

@@ -29,7 +29,14 @@ struct LocalMapperOptions {
   int cull_min_visible = 6;        ///< ... once it was predicted this often
   int cull_single_after = 3;       ///< a point seen by one keyframe only is culled this many keyframes later
   LineFitOptions line_fit;         ///< line fitting (and endpoint method) parameters
-  BundleAdjusterOptions ba;        ///< local bundle adjustment
+  BundleAdjusterOptions ba = mappingBundleOptions();  ///< local bundle adjustment
+
+  /// The same depth weighting as tracking (see TrackerOptions::trackingPoseOptions).
+  static BundleAdjusterOptions mappingBundleOptions() {
+    BundleAdjusterOptions o;
+    o.model.depth_sigma_coeff = 0.025;
+    return o;
+  }
 };
 
 /// Figures the mapper keeps for the run's statistics.

@@ -32,6 +32,7 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
   t->bind("tracker.pose_rounds", &tr.optimizer.rounds, "pose optimisation outlier rounds");
   t->bind("tracker.pose_iterations", &tr.optimizer.iterations_per_round, "solver iterations per round");
   t->bind("tracker.use_depth", &tr.optimizer.model.use_depth, "depth residuals in pose optimisation");
+  t->bind("tracker.depth_sigma_coeff", &tr.optimizer.model.depth_sigma_coeff, "depth sigma = coeff * z^2 in pose optimisation (1/m)");
 
   LocalMapperOptions& m = o->mapper;
   t->bind("mapper.local_ba", &m.local_ba, "run the local bundle adjustment");
@@ -39,6 +40,7 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
   t->bind("mapper.ba_fixed_keyframes", &m.ba_fixed_keyframes, "further keyframes held fixed around them");
   t->bind("mapper.ba_iterations", &m.ba.max_iterations, "local BA iterations (robust pass)");
   t->bind("mapper.ba_refine_iterations", &m.ba.refine_iterations, "local BA iterations without outliers");
+  t->bind("mapper.depth_sigma_coeff", &m.ba.model.depth_sigma_coeff, "depth sigma = coeff * z^2 in local BA (1/m)");
   t->bind("mapper.ba_max_time_s", &m.ba.max_time_s, "local BA time budget, seconds (0 = none)");
   t->bind("mapper.cull_found_ratio", &m.cull_found_ratio, "landmarks found in fewer predicted frames than this are culled");
   t->bind("mapper.cull_single_after", &m.cull_single_after, "points seen by one keyframe are culled this many keyframes later");

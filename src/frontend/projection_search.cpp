@@ -1,4 +1,4 @@
-#include "features/matching.h"
+#include "frontend/projection_search.h"
 
 #include <algorithm>
 #include <climits>
