@@ -5,135 +5,222 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/line_descriptor.hpp>
 
+#include "core/error.h"
+#include "core/log.h"
+#include "features/orb_extractor.h"
+
 namespace plslam {
+
+void LineOptions::validate() const {
+  auto fail = [](const std::string& m) { throw ConfigError("features.lines: " + m); };
+  if (!(detect_scale > 0 && detect_scale <= 1)) fail(str("detect_scale ", detect_scale, " must be in (0, 1]"));
+  if (!(lsd_quant > 0 && lsd_quant <= 50)) fail(str("lsd_quant ", lsd_quant, " must be in (0, 50]"));
+  if (!(merge_angle_deg >= 0 && merge_angle_deg < 45)) fail(str("merge_angle_deg ", merge_angle_deg, " must be in [0, 45)"));
+  if (!(merge_distance_px >= 0 && merge_distance_px <= 50))
+    fail(str("merge_distance_px ", merge_distance_px, " must be in [0, 50]"));
+  if (!(merge_gap_px >= 0 && merge_gap_px <= 1000)) fail(str("merge_gap_px ", merge_gap_px, " must be in [0, 1000]"));
+  if (!(min_length_ratio >= 0 && min_length_ratio < 1))
+    fail(str("min_length_ratio ", min_length_ratio, " must be in [0, 1)"));
+  if (max_lines < 0 || max_lines > 10000) fail(str("max_lines ", max_lines, " must be in 0..10000"));
+  if (!(lbd_scale > 0 && lbd_scale <= 1)) fail(str("lbd_scale ", lbd_scale, " must be in (0, 1]"));
+}
+
+LineSegment2D LineSegment2D::fromEndpoints(const Eigen::Vector2d& p, const Eigen::Vector2d& q, int octave) {
+  LineSegment2D s;
+  s.p = p;
+  s.q = q;
+  const Eigen::Vector2d d = q - p;
+  s.length = static_cast<float>(d.norm());
+  s.angle = static_cast<float>(std::atan2(d.y(), d.x()));
+  s.octave = octave;
+  return s;
+}
 
 namespace {
 
-// Tries to join a and b; on success writes the joined segment (the extreme projections
-// of the four endpoints on a's direction, placed on the length-weighted mean line).
-bool tryMerge(const LineSegment2D& a, const LineSegment2D& b, const LineOptions& o, LineSegment2D* out) {
-  const double la = a.length(), lb = b.length();
-  if (la < 1e-6 || lb < 1e-6) return false;
-  Eigen::Vector2d da = (a.q - a.p) / la, db = (b.q - b.p) / lb;
-  if (da.dot(db) < 0) db = -db;
-  if (da.dot(db) < std::cos(o.merge_angle_deg * M_PI / 180.0)) return false;
-  const Eigen::Vector2d na(-da.y(), da.x()), nb(-db.y(), db.x());
-  if (std::abs((b.p - a.p).dot(na)) > o.merge_distance_px || std::abs((b.q - a.p).dot(na)) > o.merge_distance_px ||
-      std::abs((a.p - b.p).dot(nb)) > o.merge_distance_px || std::abs((a.q - b.p).dot(nb)) > o.merge_distance_px)
+// Joins `b` (not longer than `a`) into `a` when they are fragments of one segment.
+bool tryMerge(const LineSegment2D& a, const LineSegment2D& b, double cos_max_angle, const LineOptions& o,
+              LineSegment2D* out) {
+  const double la = a.length, lb = b.length;
+  if (la < 1e-9 || lb < 1e-9) return false;
+  const Eigen::Vector2d da = (a.q - a.p) / la, db = (b.q - b.p) / lb;
+  // Same polarity only: opposite directions are the two sides of a bar, not one edge.
+  if (da.dot(db) < cos_max_angle) return false;
+  const Eigen::Vector2d na(-da.y(), da.x());
+  if (std::abs((b.p - a.p).dot(na)) > o.merge_distance_px || std::abs((b.q - a.p).dot(na)) > o.merge_distance_px)
     return false;
-  const double b0 = (b.p - a.p).dot(da), b1 = (b.q - a.p).dot(da);
-  const double gap = std::max(std::min(b0, b1) - la, -std::max(b0, b1));
+  const double t0 = (b.p - a.p).dot(da), t1 = (b.q - a.p).dot(da);
+  const double gap = std::max(std::min(t0, t1) - la, -std::max(t0, t1));
   if (gap > o.merge_gap_px) return false;
-  Eigen::Vector2d dir = (la * da + lb * db).normalized();
-  const Eigen::Vector2d centre = (la * 0.5 * (a.p + a.q) + lb * 0.5 * (b.p + b.q)) / (la + lb);
-  double lo = 1e18, hi = -1e18;
-  for (const Eigen::Vector2d& e : {a.p, a.q, b.p, b.q}) {
-    const double t = (e - centre).dot(dir);
-    lo = std::min(lo, t);
-    hi = std::max(hi, t);
+  const Eigen::Vector2d dir = (la * da + lb * db).normalized();
+  const Eigen::Vector2d centre = (la * (a.p + a.q) + lb * (b.p + b.q)) / (2 * (la + lb));
+  double lo = 0, hi = 0;
+  bool first = true;
+  for (const Eigen::Vector2d* e : {&a.p, &a.q, &b.p, &b.q}) {
+    const double t = (*e - centre).dot(dir);
+    lo = first ? t : std::min(lo, t);
+    hi = first ? t : std::max(hi, t);
+    first = false;
   }
-  out->p = centre + lo * dir;
-  out->q = centre + hi * dir;
+  *out = LineSegment2D::fromEndpoints(centre + lo * dir, centre + hi * dir, a.octave);
   return true;
+}
+
+void sortLongestFirst(std::vector<LineSegment2D>* segs) {
+  std::stable_sort(segs->begin(), segs->end(), [](const LineSegment2D& a, const LineSegment2D& b) { return a.length > b.length; });
 }
 
 }  // namespace
 
 std::vector<LineSegment2D> mergeSegments(std::vector<LineSegment2D> segs, const LineOptions& o) {
-  // Longest first so that short fragments join the long edges they belong to.
-  std::stable_sort(segs.begin(), segs.end(), [](const auto& a, const auto& b) { return a.length() > b.length(); });
+  for (LineSegment2D& s : segs) s = LineSegment2D::fromEndpoints(s.p, s.q, s.octave);  // trust only the endpoints
+  sortLongestFirst(&segs);
+  const double cos_max = std::cos(o.merge_angle_deg * CV_PI / 180.0);
+  const size_t n = segs.size();
+  // Unit directions for a cheap first test (refreshed when a segment grows).
+  std::vector<Eigen::Vector2d> dir(n);
+  for (size_t i = 0; i < n; ++i)
+    dir[i] = segs[i].length > 0 ? Eigen::Vector2d((segs[i].q - segs[i].p) / segs[i].length) : Eigen::Vector2d::Zero();
+  std::vector<char> dead(n, 0);
   bool changed = true;
-  while (changed) {
+  for (int pass = 0; changed && pass < 100; ++pass) {
     changed = false;
-    for (size_t i = 0; i < segs.size(); ++i) {
-      for (size_t j = i + 1; j < segs.size(); ++j) {
-        LineSegment2D merged;
-        if (tryMerge(segs[i], segs[j], o, &merged)) {
-          segs[i] = merged;
-          segs.erase(segs.begin() + static_cast<long>(j));
-          changed = true;
-          --j;
-        }
+    for (size_t i = 0; i < n; ++i) {
+      if (dead[i]) continue;
+      for (size_t j = 0; j < n; ++j) {
+        if (j == i || dead[j] || dir[i].dot(dir[j]) < cos_max) continue;
+        // Join into the longer one; equal lengths: into the earlier one.
+        if (segs[j].length > segs[i].length || (segs[j].length == segs[i].length && j < i)) continue;
+        LineSegment2D joined;
+        if (!tryMerge(segs[i], segs[j], cos_max, o, &joined)) continue;
+        segs[i] = joined;
+        dir[i] = (joined.q - joined.p) / std::max(1e-9f, joined.length);
+        dead[j] = 1;
+        changed = true;
       }
     }
   }
-  return segs;
+  std::vector<LineSegment2D> out;
+  out.reserve(n);
+  for (size_t i = 0; i < n; ++i)
+    if (!dead[i]) out.push_back(segs[i]);
+  sortLongestFirst(&out);
+  return out;
 }
 
-std::vector<LineSegment2D> detectLines(const cv::Mat& grey, const cv::Mat& mask, const LineOptions& o, LineStats* stats) {
-  LineStats st;
-  std::vector<LineSegment2D> out;
-  if (grey.empty() || grey.cols < 16 || grey.rows < 16) {
-    if (stats) *stats = st;
-    return out;
+bool clipSegmentToMask(const cv::Mat& mask, LineSegment2D* s) {
+  if (mask.empty()) return true;
+  const int n = std::max(2, static_cast<int>(std::ceil(s->length)) + 1);
+  int best_start = -1, best_len = 0, run_start = -1;
+  for (int k = 0; k <= n; ++k) {
+    bool ok = false;
+    if (k < n) {
+      const Eigen::Vector2d x = s->p + (s->q - s->p) * (double(k) / (n - 1));
+      const int u = std::clamp(static_cast<int>(std::lround(x.x())), 0, mask.cols - 1);
+      const int v = std::clamp(static_cast<int>(std::lround(x.y())), 0, mask.rows - 1);
+      ok = mask.at<uint8_t>(v, u) != 0;
+    }
+    if (ok && run_start < 0) run_start = k;
+    if (!ok && run_start >= 0) {
+      if (k - run_start > best_len) {
+        best_len = k - run_start;
+        best_start = run_start;
+      }
+      run_start = -1;
+    }
   }
-  CV_Assert(grey.type() == CV_8UC1);
-  cv::Mat small;
-  const double s = o.detect_scale > 0 && o.detect_scale < 1 ? o.detect_scale : 1.0;
-  if (s < 1) cv::resize(grey, small, cv::Size(), s, s, cv::INTER_AREA);
-  else small = grey;
-  std::vector<cv::Vec4f> raw;
-  cv::createLineSegmentDetector(cv::LSD_REFINE_NONE)->detect(small, raw);
-  st.detected = static_cast<int>(raw.size());
+  if (best_len < 2) return false;
+  if (best_len == n) return true;
+  const Eigen::Vector2d d = s->q - s->p;
+  *s = LineSegment2D::fromEndpoints(s->p + d * (double(best_start) / (n - 1)),
+                                    s->p + d * (double(best_start + best_len - 1) / (n - 1)), s->octave);
+  return true;
+}
+
+std::vector<LineSegment2D> detectLines(const cv::Mat& image, const cv::Mat& mask, const LineOptions& o, LineStats* stats) {
+  o.validate();
+  LineStats st;
   std::vector<LineSegment2D> segs;
+  const cv::Mat grey = toGrey(image);
+  if (!grey.empty()) checkMask(mask, grey.size());
+  // LSD needs some room; such small images carry no useful segment anyway.
+  if (grey.empty() || grey.cols < 16 || grey.rows < 16 || o.max_lines == 0) {
+    if (stats) *stats = st;
+    return segs;
+  }
+  std::vector<cv::Vec4f> raw;
+  cv::createLineSegmentDetector(o.lsd_refine ? cv::LSD_REFINE_STD : cv::LSD_REFINE_NONE, o.detect_scale, 0.6, o.lsd_quant)
+      ->detect(grey, raw);
+  st.detected = static_cast<int>(raw.size());
   segs.reserve(raw.size());
-  for (const cv::Vec4f& r : raw) segs.push_back({Eigen::Vector2d(r[0], r[1]) / s, Eigen::Vector2d(r[2], r[3]) / s});
+  // OpenCV's LSD scales its result back by x / scale, but it samples the image with
+  // cv::resize (pixel centres: x_small = (x + 0.5) * scale - 0.5): undo that half-pixel shift.
+  const double shift = 0.5 / o.detect_scale - 0.5;
+  for (const cv::Vec4f& r : raw)
+    segs.push_back(LineSegment2D::fromEndpoints(Eigen::Vector2d(r[0] + shift, r[1] + shift),
+                                                Eigen::Vector2d(r[2] + shift, r[3] + shift)));
+
   segs = mergeSegments(std::move(segs), o);
   st.merged = static_cast<int>(segs.size());
+
   const double min_len = o.min_length_ratio * std::hypot(grey.cols, grey.rows);
-  const bool use_mask = !mask.empty() && mask.size() == grey.size() && mask.type() == CV_8UC1;
-  for (const LineSegment2D& seg : segs) {
-    if (seg.length() < min_len) continue;
-    if (use_mask) {
-      int masked = 0, n = 0;
-      for (double t = 0; t <= 1.0; t += 0.1, ++n) {
-        const Eigen::Vector2d x = seg.p + t * (seg.q - seg.p);
-        const int u = std::clamp(static_cast<int>(std::lround(x.x())), 0, mask.cols - 1);
-        const int v = std::clamp(static_cast<int>(std::lround(x.y())), 0, mask.rows - 1);
-        masked += mask.at<uint8_t>(v, u) == 0;
-      }
-      if (masked > o.masked_fraction * n) continue;
-    }
-    out.push_back(seg);
+  std::vector<LineSegment2D> out;
+  out.reserve(segs.size());
+  for (LineSegment2D& s : segs) {
+    if (!clipSegmentToMask(mask, &s)) continue;
+    ++st.unmasked;
+    if (s.length < min_len) continue;
+    out.push_back(s);
   }
-  std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.length() > b.length(); });
-  if (static_cast<int>(out.size()) > o.max_lines) out.resize(o.max_lines);
+  st.long_enough = static_cast<int>(out.size());
+  sortLongestFirst(&out);  // clipping may have changed the order
+  if (static_cast<int>(out.size()) > o.max_lines) out.resize(static_cast<size_t>(o.max_lines));
   st.kept = static_cast<int>(out.size());
   if (stats) *stats = st;
   return out;
 }
 
-cv::Mat describeLines(const cv::Mat& grey, const std::vector<LineSegment2D>& lines, const LineOptions& o) {
+cv::Mat describeLines(const cv::Mat& image, const std::vector<LineSegment2D>& lines, const LineOptions& o) {
+  o.validate();
+  const cv::Mat grey = toGrey(image);
   if (lines.empty() || grey.empty()) return cv::Mat(0, 32, CV_8U);
   using cv::line_descriptor::KeyLine;
-  const double s = o.lbd_scale > 0 && o.lbd_scale < 1 ? o.lbd_scale : 1.0;
-  cv::Mat img;
+  const double s = o.lbd_scale;
+  cv::Mat img = grey;
   if (s < 1) cv::resize(grey, img, cv::Size(), s, s, cv::INTER_AREA);
-  else img = grey;
   std::vector<KeyLine> kls;
   kls.reserve(lines.size());
   for (size_t i = 0; i < lines.size(); ++i) {
-    const Eigen::Vector2d p = lines[i].p * s, q = lines[i].q * s;
+    // INTER_AREA maps pixel centres x -> (x + 0.5) * s - 0.5.
+    const Eigen::Vector2d p = (lines[i].p.array() + 0.5) * s - 0.5, q = (lines[i].q.array() + 0.5) * s - 0.5;
+    const double len = (q - p).norm();
     KeyLine k;
+    // The image handed to compute() is octave 0: octave coordinates = image coordinates.
     k.startPointX = k.sPointInOctaveX = static_cast<float>(p.x());
     k.startPointY = k.sPointInOctaveY = static_cast<float>(p.y());
     k.endPointX = k.ePointInOctaveX = static_cast<float>(q.x());
     k.endPointY = k.ePointInOctaveY = static_cast<float>(q.y());
-    k.lineLength = static_cast<float>((q - p).norm());
+    k.lineLength = static_cast<float>(len);
+    // LBD's support region runs numOfPixels samples (one per pixel) along the line: the whole length.
+    k.numOfPixels = std::max(1, static_cast<int>(std::lround(len)));
     k.angle = static_cast<float>(std::atan2(q.y() - p.y(), q.x() - p.x()));
     k.octave = 0;
-    k.class_id = static_cast<int>(i);  // LBD keeps the order of class ids
+    // compute() indexes its internal table by class_id and writes row "class_id": it must be
+    // unique and dense, or rows are left uninitialised.
+    k.class_id = static_cast<int>(i);
     k.pt = cv::Point2f(static_cast<float>(0.5 * (p.x() + q.x())), static_cast<float>(0.5 * (p.y() + q.y())));
-    k.size = k.lineLength;
-    k.response = k.lineLength / std::max(img.cols, img.rows);
-    k.numOfPixels = static_cast<int>(k.lineLength);
+    k.size = static_cast<float>(std::abs((q.x() - p.x()) * (q.y() - p.y())));  // as OpenCV's detectors set it
+    k.response = static_cast<float>(len / std::max(img.cols, img.rows));
     kls.push_back(k);
   }
   cv::line_descriptor::BinaryDescriptor::Params params;
-  params.numOfOctave_ = 1;  // one level: the segments are given, not detected
+  params.numOfOctave_ = 1;
   cv::Mat desc;
+  // A fresh instance per call: compute() mutates the object (pyramid, gradients), so a
+  // shared one would not be thread-safe.
   cv::line_descriptor::BinaryDescriptor::createBinaryDescriptor(params)->compute(img, kls, desc);
-  CV_Assert(desc.rows == static_cast<int>(lines.size()) && desc.cols == 32 && desc.type() == CV_8U);
+  if (desc.rows != static_cast<int>(lines.size()) || desc.cols != 32 || desc.type() != CV_8U)
+    throw Error(str("features: LBD returned ", desc.rows, "x", desc.cols, " descriptors for ", lines.size(), " lines"));
   return desc;
 }
 

@@ -1,5 +1,9 @@
-// Line segments: LSD, then a merge of collinear fragments (LSD over-segments: one physical
-// edge comes out as several pieces), a length filter and a cap; LBD descriptors.
+// Line segments: LSD (OpenCV imgproc, optionally on a reduced image for speed), a merge of
+// collinear fragments (LSD over-segments: one physical edge comes out as several pieces),
+// clipping to the mask, a length filter and a cap on the count; LBD binary descriptors
+// (cv::line_descriptor::BinaryDescriptor on KeyLines built from the segments).
+//
+// Stateless and deterministic. Thread safety: every function may be called concurrently.
 #pragma once
 
 #include <Eigen/Core>
@@ -9,34 +13,61 @@
 namespace plslam {
 
 struct LineOptions {
-  double detect_scale = 0.5;       ///< LSD runs on the image resized by this (speed; edges survive)
+  double detect_scale = 0.5;       ///< LSD runs on the image scaled by this, in (0, 1] (0.5: ~3x faster, coarser endpoints)
+  double lsd_quant = 2.0;          ///< LSD gradient quantisation bound; larger ignores weaker edges (and runs faster)
+  bool lsd_refine = false;         ///< LSD's own refinement (LSD_REFINE_STD); slower, the merge step does most of its job
+  double merge_angle_deg = 3.0;    ///< fragments whose directions differ by less than this...
+  double merge_distance_px = 2.0;  ///< ...whose endpoints lie this close to the other's line...
+  double merge_gap_px = 12.0;      ///< ...and that are at most this far apart along it are joined
   double min_length_ratio = 0.04;  ///< segments shorter than this fraction of the image diagonal are dropped
-  int max_lines = 120;             ///< keep at most this many (the longest)
-  double merge_angle_deg = 3.0;    ///< fragments closer than this in direction...
-  double merge_distance_px = 2.0;  ///< ...whose endpoints lie this close to each other's line...
-  double merge_gap_px = 12.0;      ///< ...and that are at most this far apart along it are merged
-  double masked_fraction = 0.3;    ///< a segment with more than this fraction of its samples masked is dropped
-  double lbd_scale = 0.5;          ///< LBD is computed on the image resized by this (speed)
+  int max_lines = 150;             ///< keep at most this many, the longest
+  double lbd_scale = 0.5;          ///< LBD runs on the image scaled by this, in (0, 1] (0.5: half the time, bands 14 px wide)
+
+  /// Throws ConfigError when a value is out of range.
+  void validate() const;
 };
 
+/// A 2D segment. Direction p -> q is LSD's: walking from p to q the darker side is on the
+/// right (image axes, y down), so an edge keeps its direction from frame to frame as long
+/// as its contrast does (the LBD descriptor depends on the direction).
 struct LineSegment2D {
-  Eigen::Vector2d p, q;  ///< endpoints, pixels of the input image
-  double length() const { return (q - p).norm(); }
+  Eigen::Vector2d p = Eigen::Vector2d::Zero(), q = Eigen::Vector2d::Zero();  ///< endpoints, pixels
+  float length = 0;  ///< |q - p|, pixels
+  float angle = 0;   ///< atan2(q.y - p.y, q.x - p.x), radians in (-pi, pi]
+  int octave = 0;    ///< pyramid level it was described at (0: the image itself)
+
+  /// A segment with length and angle filled in.
+  static LineSegment2D fromEndpoints(const Eigen::Vector2d& p, const Eigen::Vector2d& q, int octave = 0);
 };
 
-/// What the stages kept, for statistics.
+/// How many segments each stage left, for the run statistics.
 struct LineStats {
-  int detected = 0;  ///< raw LSD segments
-  int merged = 0;    ///< after merging fragments
-  int kept = 0;      ///< after the length filter, mask and cap
+  int detected = 0;     ///< raw LSD segments
+  int merged = 0;       ///< after merging fragments
+  int unmasked = 0;     ///< after dropping (or clipping) what lies on forbidden pixels
+  int long_enough = 0;  ///< after the length filter
+  int kept = 0;         ///< after the cap (= the number returned)
 };
 
-/// LSD + merge + filter on a grey image (CV_8U). `mask` (CV_8U, 0 = forbidden; may be empty).
-std::vector<LineSegment2D> detectLines(const cv::Mat& grey, const cv::Mat& mask, const LineOptions& options,
+/// LSD + merge + mask + length filter + cap, longest first. `image`: CV_8UC1/3/4.
+/// `mask`: empty or CV_8UC1 of the image size, 0 = forbidden: a segment keeps only its
+/// longest stretch of allowed pixels (sampled every pixel), dropped when none.
+/// Empty or tiny images give no segments. Throws DataError / ConfigError like extractOrb.
+std::vector<LineSegment2D> detectLines(const cv::Mat& image, const cv::Mat& mask, const LineOptions& options,
                                        LineStats* stats = nullptr);
-/// Joins collinear fragments (exposed for tests). Deterministic.
+
+/// Joins collinear fragments, iterating until nothing changes: same direction within
+/// merge_angle_deg (the same polarity), the shorter one's endpoints within merge_distance_px
+/// of the longer one's line, and a gap of at most merge_gap_px between them along it (overlap
+/// counts as no gap). The joined segment lies on the length-weighted mean line and spans the
+/// extreme projections of the endpoints. Longest first; deterministic.
 std::vector<LineSegment2D> mergeSegments(std::vector<LineSegment2D> segments, const LineOptions& options);
-/// LBD descriptors (CV_8U, 32 bytes a row, one row per segment, same order).
-cv::Mat describeLines(const cv::Mat& grey, const std::vector<LineSegment2D>& lines, const LineOptions& options);
+
+/// Keeps the longest stretch of `segment` on allowed mask pixels; false when none is left.
+bool clipSegmentToMask(const cv::Mat& mask, LineSegment2D* segment);
+
+/// LBD descriptors: CV_8U, one 32-byte row per segment in the same order (0 rows for none).
+/// `image`: the one the segments were detected on (CV_8UC1/3/4).
+cv::Mat describeLines(const cv::Mat& image, const std::vector<LineSegment2D>& lines, const LineOptions& options);
 
 }  // namespace plslam

@@ -1,4 +1,12 @@
 // ORB keypoints spread over the image, with a mask that forbids regions.
+//
+// FAST corners on a scale pyramid (with a lower threshold in the cells where the normal one
+// finds nothing), a quadtree per level that keeps the strongest corner of each node so the
+// points cover the textured parts evenly (ORB-SLAM's distribution), the intensity-centroid
+// orientation, and OpenCV's rBRIEF descriptors (cv::ORB's learned pattern, 32 bytes).
+//
+// Stateless and deterministic: the same image and mask give the same output.
+// Thread safety: every function may be called concurrently.
 #pragma once
 
 #include <opencv2/core.hpp>
@@ -7,19 +15,41 @@
 namespace plslam {
 
 struct OrbOptions {
-  int num_features = 1000;     ///< keypoints kept per image
-  float scale_factor = 1.2f;   ///< pyramid scale between levels
-  int num_levels = 8;          ///< pyramid levels
-  int fast_threshold = 20;     ///< FAST threshold
-  int min_fast_threshold = 7;  ///< retried with this when the image yields too few keypoints
-  int grid_cols = 16;          ///< the image is split into grid_cols x grid_rows cells and
-  int grid_rows = 12;          ///< each cell keeps its share of the strongest keypoints
+  int num_features = 1000;     ///< at most this many keypoints over all levels
+  float scale_factor = 1.2f;   ///< scale between two pyramid levels (> 1)
+  int num_levels = 8;          ///< pyramid levels (fewer when the image gets too small)
+  int fast_threshold = 20;     ///< FAST threshold (grey levels)
+  int min_fast_threshold = 7;  ///< threshold used in the cells where fast_threshold finds nothing
+  int cell_size = 32;          ///< side (level pixels) of the cells of that fallback
+
+  /// Throws ConfigError when a value is out of range.
+  void validate() const;
 };
 
-/// Detects and describes ORB keypoints on a grey image. `mask` (CV_8U, same size; empty =
-/// everything allowed) forbids keypoints where it is 0. Descriptors: CV_8U, one 32-byte row
-/// per keypoint. Empty or tiny images give no keypoints.
-void extractOrb(const cv::Mat& grey, const cv::Mat& mask, const OrbOptions& options, std::vector<cv::KeyPoint>* keypoints,
+/// Keypoints lie at least this far (in their own level's pixels) from the level border,
+/// so that the 31x31 orientation and descriptor patch fits in the image.
+constexpr int kOrbEdge = 16;
+
+/// Detects and describes ORB keypoints.
+/// `image`: CV_8UC1, CV_8UC3 (BGR) or CV_8UC4 (BGRA). `mask`: empty (everything allowed) or
+/// CV_8UC1 of the image size; no keypoint lies on a pixel where it is 0 (the keypoint's
+/// level-0 position, rounded).
+/// Output keypoints: raw pixels at level 0, octave = pyramid level, angle in degrees
+/// [0, 360), response = FAST score, size = 31 * scale of the level; sorted by octave.
+/// Descriptors: CV_8U, one 32-byte row per keypoint (0 rows when there are none).
+/// An empty, tiny or textureless image gives no keypoints.
+/// Throws DataError for an unsupported image type or a mask of the wrong size or type,
+/// ConfigError for invalid options.
+void extractOrb(const cv::Mat& image, const cv::Mat& mask, const OrbOptions& options, std::vector<cv::KeyPoint>* keypoints,
                 cv::Mat* descriptors);
+
+/// scale_factor^level for level 0..num_levels-1: level pixels times this = level-0 pixels.
+std::vector<float> orbLevelScales(const OrbOptions& options);
+
+/// Grey view of `image` (shared data when it is CV_8UC1 already, converted from BGR/BGRA
+/// otherwise); throws DataError for other types. Used by the point and line extractors.
+cv::Mat toGrey(const cv::Mat& image);
+/// Throws DataError unless `mask` is empty or CV_8UC1 of `size`.
+void checkMask(const cv::Mat& mask, const cv::Size& size);
 
 }  // namespace plslam

@@ -6,7 +6,7 @@
 #include <set>
 
 #include "core/log.h"
-#include "frontend/projection_search.h"
+#include "features/matching.h"
 
 namespace plslam {
 
@@ -159,30 +159,55 @@ void Tracker::searchLocalMap(const SE3& T_w_c, const FrameFeatures& f, double ra
     }
   }
   const SE3 T_c_w = T_w_c.inverse();
-  ProjectionSearchOptions so;
-  so.radius_px = radius;
-  so.max_distance = options_.max_descriptor_distance;
-  so.ratio = options_.ratio;
-  std::vector<ProjectedPoint> projected;
-  projected.reserve(point_ids.size());
+  // Landmarks matched in an earlier pass keep their keypoint; the rest are searched among
+  // the keypoints still free.
+  std::set<Id> matched_points(m->point_ids.begin(), m->point_ids.end());
+  std::vector<char> kp_taken(f.points.size());
+  for (size_t k = 0; k < f.points.size(); ++k) kp_taken[k] = m->point_ids[k] != kNoId;
+  std::vector<Id> predicted_ids;
+  std::vector<PointPrediction> predictions;
+  cv::Mat predicted_desc;
   for (Id id : point_ids) {
-    const MapPoint* p = map_->point(id);
+    MapPoint* p = map_->point(id);
     const Eigen::Vector3d p_c = T_c_w * p->p_w;
     if (p_c.z() < 0.1) continue;
     const Eigen::Vector2d uv = camera_.projectIdeal(p_c);
     if (!camera_.inImage(uv)) continue;
-    projected.push_back({id, uv, p->descriptor});
-  }
-  const std::vector<int> kp_of = searchPointsByProjection(projected, f, so, m->point_ids);
-  for (size_t i = 0; i < projected.size(); ++i) {
-    MapPoint* p = map_->point(projected[i].id);
     if (count_visible) ++p->visible;
-    if (kp_of[i] >= 0) m->point_ids[kp_of[i]] = projected[i].id;
+    if (matched_points.count(id)) continue;
+    predicted_ids.push_back(id);
+    predictions.push_back({uv, -1});
+    predicted_desc.push_back(p->descriptor);
   }
+  std::vector<Eigen::Vector2d> kp_uv;
+  std::vector<int> kp_octave;
+  for (const Keypoint& k : f.points) {
+    kp_uv.push_back(k.uv);
+    kp_octave.push_back(k.octave);
+  }
+  PointProjectionOptions po;
+  po.radius_px = radius;
+  po.max_distance = options_.max_descriptor_distance;
+  po.ratio = options_.ratio;
+  po.octave_window = -1;
+  const PointGrid grid(kp_uv, camera_.width, camera_.height);
+  for (const DescriptorMatch& dm :
+       matchPointsByProjection(predictions, predicted_desc, grid, kp_octave, f.point_descriptors, po, kp_taken))
+    m->point_ids[dm.train] = predicted_ids[dm.query];
+
   if (!options_.use_lines || f.lines.empty()) return;
-  std::vector<ProjectedLine> plines;
+  std::set<Id> matched_lines(m->line_ids.begin(), m->line_ids.end());
+  std::vector<char> line_taken(f.lines.size());
+  std::vector<LineSegment2D> segments;
+  for (size_t k = 0; k < f.lines.size(); ++k) {
+    line_taken[k] = m->line_ids[k] != kNoId;
+    segments.push_back(LineSegment2D::fromEndpoints(f.lines[k].p, f.lines[k].q));
+  }
+  std::vector<Id> line_pred_ids;
+  std::vector<LineSegment2D> line_preds;
+  cv::Mat line_pred_desc;
   for (Id id : line_ids) {
-    const MapLine* l = map_->line(id);
+    MapLine* l = map_->line(id);
     Eigen::Vector3d P = T_c_w * l->P_w, Q = T_c_w * l->Q_w;
     if (P.z() < 0.1 && Q.z() < 0.1) continue;
     // Clip the part behind the camera so the projection stays meaningful.
@@ -190,18 +215,21 @@ void Tracker::searchLocalMap(const SE3& T_w_c, const FrameFeatures& f, double ra
     if (Q.z() < 0.1) Q = P + (Q - P) * ((P.z() - 0.1) / (P.z() - Q.z()));
     const Eigen::Vector2d p = camera_.projectIdeal(P), q = camera_.projectIdeal(Q);
     if (!camera_.inImage(p) && !camera_.inImage(q) && !camera_.inImage(0.5 * (p + q))) continue;
-    plines.push_back({id, p, q, l->descriptor});
-  }
-  LineSearchOptions lo;
-  lo.angle_deg = options_.line_angle_deg;
-  lo.distance_px = options_.line_distance_px * radius / options_.narrow_radius_px * 0.5 + options_.line_distance_px * 0.5;
-  lo.max_distance = options_.max_line_descriptor_distance;
-  const std::vector<int> line_of = searchLinesByProjection(plines, f, lo, m->line_ids);
-  for (size_t i = 0; i < plines.size(); ++i) {
-    MapLine* l = map_->line(plines[i].id);
     if (count_visible) ++l->visible;
-    if (line_of[i] >= 0) m->line_ids[line_of[i]] = plines[i].id;
+    if (matched_lines.count(id)) continue;
+    line_pred_ids.push_back(id);
+    line_preds.push_back(LineSegment2D::fromEndpoints(p, q));
+    line_pred_desc.push_back(l->descriptor);
   }
+  LineProjectionOptions lo;
+  lo.angle_deg = options_.line_angle_deg;
+  // The wide first pass allows for the motion model's error.
+  lo.distance_px = options_.line_distance_px * std::max(1.0, radius / options_.narrow_radius_px) * 0.5 +
+                   options_.line_distance_px * 0.5;
+  lo.max_distance = options_.max_line_descriptor_distance;
+  for (const DescriptorMatch& dm :
+       matchLinesByProjection(line_preds, line_pred_desc, segments, f.line_descriptors, lo, line_taken))
+    m->line_ids[dm.train] = line_pred_ids[dm.query];
 }
 
 PoseOnlyResult Tracker::optimise(const SE3& T_w_c, const FrameFeatures& f, Matches* m) const {
@@ -269,15 +297,16 @@ bool Tracker::relocalise(const FrameFeatures& f, SE3* T_w_c, Matches* m) {
       std::lock_guard<std::mutex> lock(map_->mutex());
       const KeyFrame* k = map_->keyframe(kf);
       if (!k) continue;
-      const std::vector<int> match = matchDescriptors(k->features.point_descriptors, f.point_descriptors,
-                                                      options_.max_descriptor_distance, options_.ratio);
-      for (size_t i = 0; i < match.size(); ++i) {
-        if (match[i] < 0 || k->point_ids[i] == kNoId) continue;
-        const MapPoint* p = map_->point(k->point_ids[i]);
+      BruteForceOptions bo;
+      bo.max_distance = options_.max_descriptor_distance;
+      bo.ratio = options_.ratio;
+      for (const DescriptorMatch& dm : matchBruteForce(k->features.point_descriptors, f.point_descriptors, bo)) {
+        if (k->point_ids[dm.query] == kNoId) continue;
+        const MapPoint* p = map_->point(k->point_ids[dm.query]);
         if (!p) continue;
         object.emplace_back(p->p_w.x(), p->p_w.y(), p->p_w.z());
-        image.emplace_back(f.points[match[i]].uv.x(), f.points[match[i]].uv.y());
-        pairs.emplace_back(match[i], p->id);
+        image.emplace_back(f.points[dm.train].uv.x(), f.points[dm.train].uv.y());
+        pairs.emplace_back(dm.train, p->id);
       }
     }
     if (object.size() < 30) continue;

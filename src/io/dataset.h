@@ -22,8 +22,6 @@
 // Thread safety: none; use one TumDataset from one thread.
 #pragma once
 
-#include <map>
-#include <optional>
 #include <string>
 #include <vector>
 

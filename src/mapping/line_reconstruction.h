@@ -42,6 +42,7 @@ struct LineFitOptions {
   double min_depth_m = 0.1;       ///< depths below this are treated as missing
   double max_depth_m = 6.0;       ///< depths above this are treated as missing
   int perp_search_px = 2;         ///< half-width of the window searched perpendicular to the segment
+  double surface_jump_tolerances = 2.0;  ///< a step > this * tolerance(z) between window neighbours separates two surfaces
   // Depth noise model and inlier test: tol(z) = inlier_sigmas * depth_noise_coeff * z^2 + inlier_base_m.
   double depth_noise_coeff = 0.0015;  ///< Kinect-like depth sigma per metre^2 (sigma = c z^2)
   double inlier_sigmas = 3.0;         ///< inlier threshold in depth sigmas
@@ -87,10 +88,13 @@ struct LineFitDiagnostics {
 /// PLY-SLAM line reconstruction by fitting (see LineFitOptions for every step's parameter):
 ///  1. samples evenly spaced along the UNDISTORTED segment (a 3D line is straight there), each
 ///     looked up at its raw pixel;
-///  2. depth per sample = the exact pixel's depth if it is within tolerance of the minimum valid
-///     depth in a +-perp_search_px window perpendicular to the segment, else the depth of the
-///     window pixel closest to the segment that is (an occluding edge belongs to the NEAR
-///     surface: the box, not the wall behind it); the sample's own pixel is back-projected with it;
+///  2. depth per sample from a +-perp_search_px window perpendicular to the segment: only the
+///     NEAR surface counts (the run of window pixels connected to the nearest one without a
+///     step > surface_jump_tolerances * tolerance), because an occluding edge belongs to the
+///     near surface (the box, not the wall behind it); its inverse depth is interpolated at
+///     the segment between the nearest pixels on either side, or extrapolated by an affine
+///     least-squares fit when the run lies on one side (a silhouette); the sample's own pixel
+///     is back-projected with that depth;
 ///  3. RANSAC over all pairs of valid samples at least a third of the valid samples apart
 ///     (exhaustive, so deterministic), inliers within tolerance(z) of the line;
 ///  4. refit by PCA of the inliers weighted by 1/tolerance(z)^2, re-select inliers, repeat;
@@ -115,7 +119,7 @@ std::optional<LineSegment3D> backprojectEndpoints(const Eigen::Vector2d& p_raw, 
 /// used); frames that used no segment are skipped. One accumulator per method.
 class LineReconstructionRate {
  public:
-  /// Adds one frame's counts (built <= used).
+  /// Adds one frame's counts; throws DataError unless 0 <= built <= used.
   void add(int built, int used);
   /// Mean of the per-frame rates; 0 when no frame counted.
   double average() const { return frames_ > 0 ? sum_rates_ / frames_ : 0.0; }

@@ -1,36 +1,20 @@
 // plslam run: SLAM over a recorded RGB-D folder (TUM layout), writing the trajectory,
 // keyframes, sparse map, statistics and effective configuration.
-#include <atomic>
-#include <chrono>
-#include <csignal>
+#include <algorithm>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
-#include <sstream>
 
 #include "camera/camera_file.h"
 #include "commands.h"
-#include "core/error.h"
 #include "core/log.h"
-#include "eval/trajectory_eval.h"
 #include "io/dataset.h"
+#include "run_session.h"
 #include "system/run_outputs.h"
 #include "system/system.h"
 
 namespace plslam::cli {
 
 namespace {
-
-std::atomic<bool> g_interrupted{false};
-extern "C" void onSigint(int) { g_interrupted = true; }
-
-std::string readText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(path + ": cannot open configuration file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 int runRun(int argc, char** argv) {
   Args args("run", "Point-line RGB-D SLAM over a recorded folder (TUM RGB-D layout, ICL-NUIM, or plslam synth).");
@@ -54,11 +38,7 @@ int runRun(int argc, char** argv) {
 
   SystemOptions options;
   OptionTable table;
-  bindOptions(&table, &options);
-  if (args.has("config")) {
-    const std::string path = args.str("config");
-    table.apply(parseYamlSubset(readText(path), path), path);
-  }
+  loadRunConfig(args.has("config") ? args.str("config") : std::string(), &options, &table);
   if (args.has("sequential")) options.sequential = true;
   if (args.has("no-lines")) options.use_lines = false;
   if (args.has("print-config")) {
@@ -74,51 +54,24 @@ int runRun(int argc, char** argv) {
 
   System slam(camera, options);
   slam.start();
-  g_interrupted = false;
-  auto previous = std::signal(SIGINT, onSigint);
   const bool progress = !args.has("quiet");
-  const auto t0 = std::chrono::steady_clock::now();
-  auto last_print = t0;
-  RgbdFrame frame;
-  size_t done = 0;
-  int tracked = 0;
-  while (!g_interrupted && dataset.next(&frame)) {
-    const TrackingResult r = slam.feed(frame);
-    ++done;
-    tracked += isTracked(r.status);
-    const auto now = std::chrono::steady_clock::now();
-    if (progress && (now - last_print > std::chrono::milliseconds(500) || done == dataset.size())) {
-      last_print = now;
-      const double s = std::chrono::duration<double>(now - t0).count();
-      std::fprintf(stderr, "\r[run] frame %zu/%zu  tracked %d  keyframes %zu  %.1f frames/s  ", done, dataset.size(),
-                   tracked, slam.map().keyframes().size(), done / std::max(s, 1e-9));
+  FeedResult fed;
+  {
+    SigintGuard sigint;
+    fed = feedFrames(&slam, &dataset, [&](const FeedProgress& p) {
+      if (!progress) return;
+      std::fprintf(stderr, "\r[run] frame %zu/%zu  tracked %d  keyframes %zu  %.1f frames/s  ", p.done, p.total,
+                   p.tracked, p.keyframes, p.done / std::max(p.seconds, 1e-9));
       std::fflush(stderr);
-    }
+    });
+    if (progress) std::fprintf(stderr, "\n");
   }
-  if (progress) std::fprintf(stderr, "\n");
-  std::signal(SIGINT, previous);
-  if (g_interrupted) std::fprintf(stderr, "[run] interrupted: finishing and writing what there is\n");
+  if (fed.interrupted) std::fprintf(stderr, "[run] interrupted: finishing and writing what there is\n");
   slam.finish();
 
-  std::ostringstream extra;
-  extra << "\"dataset\": \"" << dataset.dir() << "\", \"skipped_frames\": " << dataset.skippedTotal();
-  std::string ate_line;
-  const Trajectory est = slam.trajectory();
-  if (dataset.hasGroundtruth() && est.size() >= 3) {
-    try {
-      const EvalResult ev = evaluate(dataset.groundtruth(), est);
-      extra.precision(6);
-      extra << ", \"ate_rmse_m\": " << ev.ate.stats.rmse << ", \"rpe_trans_rmse_m\": " << ev.rpe.trans.rmse
-            << ", \"rpe_rot_rmse_deg\": " << ev.rpe.rot_deg.rmse;
-      char buf[160];
-      std::snprintf(buf, sizeof(buf), "ATE RMSE %.4f m over %d poses; RPE %.4f m/s, %.3f deg/s", ev.ate.stats.rmse,
-                    ev.ate.stats.count, ev.rpe.trans.rmse, ev.rpe.rot_deg.rmse);
-      ate_line = buf;
-    } catch (const Error& e) {
-      ate_line = std::string("ATE not computed: ") + e.what();
-    }
-  }
-  writeRunOutputs(out, slam, table.toYaml("plslam run: effective configuration"), extra.str());
+  const RunEvaluation evaluation = evaluateRun(dataset, slam.trajectory());
+  const std::string ate_line = evaluation.text();
+  writeRunOutputs(out, slam, table.toYaml("plslam run: effective configuration"), runStatsExtra(dataset, evaluation));
 
   const RunStats st = slam.stats();
   const Summary tms = summarize(st.tracking_ms);
@@ -128,7 +81,7 @@ int runRun(int argc, char** argv) {
               tms.median, tms.p95, st.line_rate_fitting, st.line_rate_endpoints);
   if (!ate_line.empty()) std::printf("%s\n", ate_line.c_str());
   std::printf("outputs: %s\n", out.c_str());
-  return g_interrupted ? 130 : 0;
+  return fed.interrupted ? 130 : 0;
 }
 
 }  // namespace

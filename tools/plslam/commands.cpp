@@ -3,7 +3,12 @@
 namespace plslam::cli {
 
 std::vector<Command> allCommands() {
-  return {};
+  return {
+      makeRunCommand(),
+      makeEvalCommand(),
+      makeSynthCommand(),
+      makeBenchCommand(),
+  };
 }
 
 }  // namespace plslam::cli

@@ -9,4 +9,9 @@ namespace plslam::cli {
 
 std::vector<Command> allCommands();
 
+Command makeEvalCommand();
+Command makeSynthCommand();
+Command makeRunCommand();
+Command makeBenchCommand();
+
 }  // namespace plslam::cli

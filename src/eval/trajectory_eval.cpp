@@ -1,0 +1,245 @@
+#include "eval/trajectory_eval.h"
+
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "io/trajectory_file.h"
+
+namespace plslam {
+
+namespace {
+const Logger kLog("eval");
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/// A JSON number, or null when not finite.
+std::string num(double v) {
+  if (!std::isfinite(v)) return "null";
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.10g", v);
+  return buf;
+}
+
+std::string jsonString(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '\t': out += "\\t"; break;
+      case '\r': out += "\\r"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          char buf[8];
+          std::snprintf(buf, sizeof(buf), "\\u%04x", c);
+          out += buf;
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+std::vector<double> seconds(const Trajectory& traj) {
+  std::vector<double> s(traj.size());
+  std::transform(traj.begin(), traj.end(), s.begin(), [](const StampedPose& p) { return stampSeconds(p.t_ns); });
+  return s;
+}
+}  // namespace
+
+Stats computeStats(const std::vector<double>& values) {
+  Stats s;
+  s.count = static_cast<int>(values.size());
+  if (values.empty()) return s;
+  const double n = static_cast<double>(values.size());
+  double sum = 0, sum_sq = 0;
+  for (double v : values) {
+    sum += v;
+    sum_sq += v * v;
+  }
+  s.mean = sum / n;
+  s.rmse = std::sqrt(sum_sq / n);
+  double var = 0;
+  for (double v : values) var += (v - s.mean) * (v - s.mean);
+  s.std = std::sqrt(var / n);  // population standard deviation, as numpy.std
+  s.median = median(values);
+  const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
+  s.min = *lo;
+  s.max = *hi;
+  return s;
+}
+
+std::vector<StampMatch> associate(const Trajectory& gt, const Trajectory& est, double max_difference_s) {
+  std::vector<TimeNs> a(gt.size()), b(est.size());
+  std::transform(gt.begin(), gt.end(), a.begin(), [](const StampedPose& p) { return p.t_ns; });
+  std::transform(est.begin(), est.end(), b.begin(), [](const StampedPose& p) { return p.t_ns; });
+  return associateStamps(a, b, max_difference_s);
+}
+
+SE3 alignRigid(const std::vector<Eigen::Vector3d>& src, const std::vector<Eigen::Vector3d>& dst) {
+  if (src.size() != dst.size() || src.size() < 3)
+    throw DataError(str("rigid alignment needs at least 3 point pairs, got ", std::min(src.size(), dst.size())));
+  const double n = static_cast<double>(src.size());
+  Eigen::Vector3d mean_src = Eigen::Vector3d::Zero(), mean_dst = Eigen::Vector3d::Zero();
+  for (size_t k = 0; k < src.size(); ++k) {
+    mean_src += src[k];
+    mean_dst += dst[k];
+  }
+  mean_src /= n;
+  mean_dst /= n;
+  // W = sum (src_k - mean_src)(dst_k - mean_dst)^T; with W^T = U S V^T the rotation is U D V^T.
+  Eigen::Matrix3d W = Eigen::Matrix3d::Zero();
+  for (size_t k = 0; k < src.size(); ++k) W += (src[k] - mean_src) * (dst[k] - mean_dst).transpose();
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(W.transpose(), Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::Matrix3d U = svd.matrixU(), V = svd.matrixV();
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  if (U.determinant() * V.determinant() < 0) D(2, 2) = -1;  // a reflection otherwise
+  const Eigen::Matrix3d R = U * D * V.transpose();
+  return SE3(R, mean_dst - R * mean_src);
+}
+
+AteResult computeAte(const Trajectory& gt, const Trajectory& est, const std::vector<StampMatch>& pairs) {
+  AteResult r;
+  r.pairs = pairs;
+  std::vector<Eigen::Vector3d> p_est, p_gt;
+  for (const StampMatch& m : pairs) {
+    p_gt.push_back(gt.at(m.first).T_w_c.translation());
+    p_est.push_back(est.at(m.second).T_w_c.translation());
+  }
+  if (pairs.size() < 3) throw DataError(str("ATE needs at least 3 associated poses, got ", pairs.size()));
+  r.T_gt_est = alignRigid(p_est, p_gt);
+  const Eigen::Matrix3d R = r.T_gt_est.rotation();
+  const Eigen::Vector3d t = r.T_gt_est.translation();
+  r.errors.reserve(pairs.size());
+  for (size_t k = 0; k < pairs.size(); ++k) r.errors.push_back((R * p_est[k] + t - p_gt[k]).norm());
+  r.stats = computeStats(r.errors);
+  return r;
+}
+
+RpeResult computeRpe(const Trajectory& gt, const Trajectory& est, double delta_s) {
+  RpeResult r;
+  r.delta_s = delta_s;
+  if (gt.size() < 2 || est.size() < 2) return r;
+  const std::vector<double> t_gt = seconds(gt), t_est = seconds(est);
+  std::vector<double> intervals(t_gt.size() - 1);
+  for (size_t k = 0; k + 1 < t_gt.size(); ++k) intervals[k] = t_gt[k + 1] - t_gt[k];
+  const double gt_max_time_difference = 2.0 * median(intervals);
+
+  // 4x4 matrices and general inverses, as the reference script computes them.
+  auto m = [](const SE3& T) { return T.matrix(); };
+  auto ominus = [](const Eigen::Matrix4d& a, const Eigen::Matrix4d& b) -> Eigen::Matrix4d { return a.inverse() * b; };
+  std::vector<double> trans, rot_deg;
+  const size_t last = est.size() - 1;
+  for (size_t i = 0; i < est.size(); ++i) {
+    const size_t j = findClosestIndex(t_est, t_est[i] + delta_s);
+    if (j == last) continue;
+    const size_t gi = findClosestIndex(t_gt, t_est[i]);
+    const size_t gj = findClosestIndex(t_gt, t_est[j]);
+    if (std::abs(t_gt[gi] - t_est[i]) > gt_max_time_difference || std::abs(t_gt[gj] - t_est[j]) > gt_max_time_difference)
+      continue;
+    const Eigen::Matrix4d E =
+        ominus(ominus(m(est[j].T_w_c), m(est[i].T_w_c)), ominus(m(gt[gj].T_w_c), m(gt[gi].T_w_c)));
+    trans.push_back(E.block<3, 1>(0, 3).norm());
+    const double c = std::clamp((E.block<3, 3>(0, 0).trace() - 1.0) / 2.0, -1.0, 1.0);
+    rot_deg.push_back(std::acos(c) * 180.0 / M_PI);
+  }
+  r.pairs = static_cast<int>(trans.size());
+  r.trans = computeStats(trans);
+  r.rot_deg = computeStats(rot_deg);
+  return r;
+}
+
+EvalResult evaluate(const Trajectory& gt, const Trajectory& est, const EvalOptions& options, const std::string& gt_name,
+                    const std::string& est_name) {
+  if (!(options.max_difference_s > 0)) throw ConfigError(str("max_difference must be positive, got ", options.max_difference_s));
+  if (!(options.rpe_delta_s > 0)) throw ConfigError(str("RPE delta must be positive, got ", options.rpe_delta_s));
+  EvalResult r;
+  r.gt_name = gt_name;
+  r.est_name = est_name;
+  r.gt_poses = static_cast<int>(gt.size());
+  r.est_poses = static_cast<int>(est.size());
+  const std::vector<StampMatch> pairs = associate(gt, est, options.max_difference_s);
+  if (pairs.size() < 3) {
+    std::string span;
+    if (!gt.empty() && !est.empty())
+      span = str(" (ground truth ", formatSecondsStamp(gt.front().t_ns), "..", formatSecondsStamp(gt.back().t_ns),
+                 " s, estimate ", formatSecondsStamp(est.front().t_ns), "..", formatSecondsStamp(est.back().t_ns), " s)");
+    throw DataError(str(est_name, " vs ", gt_name, ": ", pairs.size(), " pose(s) associated within ",
+                        options.max_difference_s, " s, at least 3 needed", span,
+                        pairs.empty() ? ": the stamps do not overlap; are these files of the same sequence?" : ""));
+  }
+  r.ate = computeAte(gt, est, pairs);
+  r.rpe = computeRpe(gt, est, options.rpe_delta_s);
+  if (r.rpe.pairs == 0)
+    kLog.warn(str(est_name, ": no RPE pair over ", options.rpe_delta_s, " s (trajectory too short?)"));
+  return r;
+}
+
+EvalResult evaluateFiles(const std::string& gt_path, const std::string& est_path, const EvalOptions& options) {
+  const Trajectory gt = readTumTrajectory(gt_path);
+  const Trajectory est = readTumTrajectory(est_path);
+  return evaluate(gt, est, options, gt_path, est_path);
+}
+
+std::string toJson(const EvalResult& r) {
+  const bool rpe = r.rpe.pairs > 0;
+  auto rv = [&](double v) { return rpe ? num(v) : std::string("null"); };
+  const Stats& a = r.ate.stats;
+  const Eigen::Vector3d t = r.ate.T_gt_est.translation();
+  const Eigen::Quaterniond q = r.ate.T_gt_est.quaternion();
+  std::ostringstream os;
+  os << "{\"pairs\": " << r.ate.pairs.size() << ", \"gt_file\": " << jsonString(r.gt_name)
+     << ", \"est_file\": " << jsonString(r.est_name) << ", \"gt_poses\": " << r.gt_poses
+     << ", \"est_poses\": " << r.est_poses << ",\n \"ate\": {\"rmse\": " << num(a.rmse) << ", \"mean\": " << num(a.mean)
+     << ", \"median\": " << num(a.median) << ", \"std\": " << num(a.std) << ", \"min\": " << num(a.min)
+     << ", \"max\": " << num(a.max) << ", \"T_gt_est\": [" << num(t.x()) << ", " << num(t.y()) << ", " << num(t.z())
+     << ", " << num(q.x()) << ", " << num(q.y()) << ", " << num(q.z()) << ", " << num(q.w()) << "]},\n"
+     << " \"rpe\": {\"pairs\": " << r.rpe.pairs << ", \"delta_s\": " << num(r.rpe.delta_s)
+     << ", \"trans_rmse\": " << rv(r.rpe.trans.rmse) << ", \"trans_mean\": " << rv(r.rpe.trans.mean)
+     << ", \"trans_median\": " << rv(r.rpe.trans.median) << ", \"trans_std\": " << rv(r.rpe.trans.std)
+     << ", \"trans_min\": " << rv(r.rpe.trans.min) << ", \"trans_max\": " << rv(r.rpe.trans.max)
+     << ", \"rot_rmse_deg\": " << rv(r.rpe.rot_deg.rmse) << ", \"rot_mean_deg\": " << rv(r.rpe.rot_deg.mean)
+     << ", \"rot_median_deg\": " << rv(r.rpe.rot_deg.median) << ", \"rot_std_deg\": " << rv(r.rpe.rot_deg.std)
+     << ", \"rot_min_deg\": " << rv(r.rpe.rot_deg.min) << ", \"rot_max_deg\": " << rv(r.rpe.rot_deg.max) << "}}\n";
+  return os.str();
+}
+
+std::string toText(const EvalResult& r) {
+  char buf[512];
+  std::ostringstream os;
+  os << "ground truth: " << r.gt_name << " (" << r.gt_poses << " poses)\n"
+     << "estimate:     " << r.est_name << " (" << r.est_poses << " poses)\n"
+     << "associated pairs: " << r.ate.pairs.size() << "\n";
+  const Stats& a = r.ate.stats;
+  std::snprintf(buf, sizeof(buf), "ATE (m):  rmse %.6f  mean %.6f  median %.6f  std %.6f  min %.6f  max %.6f\n", a.rmse,
+                a.mean, a.median, a.std, a.min, a.max);
+  os << buf;
+  if (r.rpe.pairs > 0) {
+    const Stats& t = r.rpe.trans;
+    const Stats& d = r.rpe.rot_deg;
+    std::snprintf(buf, sizeof(buf),
+                  "RPE over %g s, %d pairs\n  trans (m):   rmse %.6f  mean %.6f  median %.6f  std %.6f  min %.6f  max %.6f\n"
+                  "  rot (deg):   rmse %.6f  mean %.6f  median %.6f  std %.6f  min %.6f  max %.6f\n",
+                  r.rpe.delta_s, r.rpe.pairs, t.rmse, t.mean, t.median, t.std, t.min, t.max, d.rmse, d.mean, d.median,
+                  d.std, d.min, d.max);
+    os << buf;
+  } else {
+    os << "RPE: no pair of poses " << r.rpe.delta_s << " s apart\n";
+  }
+  return os.str();
+}
+
+}  // namespace plslam

@@ -1,0 +1,100 @@
+// Local bundle adjustment of keyframe poses, map points and 3D line segments.
+//
+// A 3D line is its two world endpoints (P, Q); each observation is a 2D segment whose
+// residual is the pixel distance of the projections of P and Q to the observed infinite
+// line. The endpoints could slide along the line without changing any residual (a gauge
+// freedom); each free line is therefore updated on a 4-dof manifold where every endpoint
+// moves only within the plane through its initial position perpendicular to the initial
+// direction. No prior is added; endpoint extents are the caller's (the mapper's) business.
+//
+// Gauge: keyframes flagged fixed are held constant; when none is, the first keyframe that
+// has observations is held fixed. Under-constrained landmarks (a point seen once without
+// depth, a line seen fewer than twice) are held constant.
+//
+// Stateless; thread safety: adjust() is const and may run concurrently on different problems.
+#pragma once
+
+#include <Eigen/Core>
+#include <limits>
+#include <vector>
+
+#include "camera/pinhole_camera.h"
+#include "core/se3.h"
+#include "optim/measurement.h"
+
+namespace plslam {
+
+struct BundleProblem {
+  struct Keyframe {
+    SE3 T_w_c;           ///< initial pose, camera in world
+    bool fixed = false;  ///< held constant (gauge, or outside the local window)
+  };
+  struct Point {
+    Eigen::Vector3d p_w = Eigen::Vector3d::Zero();  ///< initial world position, metres
+    bool fixed = false;                             ///< held constant
+  };
+  struct Line {
+    Eigen::Vector3d P_w = Eigen::Vector3d::Zero();  ///< initial world endpoint, metres
+    Eigen::Vector3d Q_w = Eigen::Vector3d::Zero();  ///< initial world endpoint, metres
+    bool fixed = false;                             ///< held constant
+  };
+  struct PointObs {
+    int keyframe = -1;                                         ///< index into keyframes
+    int point = -1;                                            ///< index into points
+    Eigen::Vector2d uv = Eigen::Vector2d::Zero();              ///< observed ideal pixel
+    int octave = 0;                                            ///< pyramid level (sets sigma)
+    double depth = std::numeric_limits<double>::quiet_NaN();   ///< measured depth, metres; NaN = none
+  };
+  struct LineObs {
+    int keyframe = -1;                             ///< index into keyframes
+    int line = -1;                                 ///< index into lines
+    Eigen::Vector2d p = Eigen::Vector2d::Zero();   ///< observed segment endpoint, ideal pixels
+    Eigen::Vector2d q = Eigen::Vector2d::Zero();   ///< observed segment endpoint, ideal pixels
+    int octave = 0;                                ///< pyramid level (sets sigma)
+  };
+
+  std::vector<Keyframe> keyframes;
+  std::vector<Point> points;
+  std::vector<Line> lines;
+  std::vector<PointObs> point_obs;
+  std::vector<LineObs> line_obs;
+};
+
+struct BundleResult {
+  std::vector<SE3> T_w_c;                                           ///< per keyframe
+  std::vector<Eigen::Vector3d> points;                              ///< per point
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> lines;   ///< per line: (P_w, Q_w)
+  std::vector<bool> point_obs_outlier;  ///< per point observation: chi2 over the gate or behind the camera
+  std::vector<bool> line_obs_outlier;   ///< per line observation: chi2 over the gate, behind, or degenerate
+  int outliers = 0;                     ///< point + line observations flagged
+  double initial_cost = 0.0;            ///< Ceres cost (robustified) before the first pass
+  double final_cost = 0.0;              ///< Ceres cost (robustified) after the last pass
+  int iterations = 0;                   ///< solver iterations over both passes
+  double time_ms = 0.0;                 ///< wall time of adjust()
+  OptimStatus status = OptimStatus::kNoObservations;
+  bool ok() const { return status == OptimStatus::kOk; }
+};
+
+struct BundleAdjusterOptions {
+  enum class LinearSolver { kAuto, kDenseSchur, kSparseSchur };
+  MeasurementModel model;                 ///< noise, chi2 gates (Huber threshold = sqrt(chi2)), depth use
+  int max_iterations = 10;                ///< Levenberg-Marquardt iterations of the first (robust) pass
+  int refine_iterations = 10;             ///< iterations of the second pass without the outliers (0 = none)
+  double max_time_s = 0.0;                ///< wall-time budget over both passes (0 = unlimited)
+  LinearSolver linear_solver = LinearSolver::kAuto;  ///< kAuto: dense Schur up to 40 free keyframes, else sparse
+  int num_threads = 1;                    ///< Ceres threads
+};
+
+class LocalBundleAdjuster {
+ public:
+  explicit LocalBundleAdjuster(BundleAdjusterOptions options = {});
+  /// Throws DataError when an observation refers to a keyframe or landmark out of range.
+  /// Degenerate input (no observations, none usable) returns a non-kOk status and the input values.
+  BundleResult adjust(const PinholeCamera& camera, const BundleProblem& problem) const;
+  const BundleAdjusterOptions& options() const { return options_; }
+
+ private:
+  BundleAdjusterOptions options_;
+};
+
+}  // namespace plslam

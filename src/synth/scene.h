@@ -1,0 +1,190 @@
+// Synthetic RGB-D scenes with exact ground truth: the geometry, the camera path and the
+// moving objects of one scene. Rendering is in synth/renderer.h, files in synth/dataset.h.
+//
+// World frame: metres, z up, floor at z = 0; the room spans x in [-3, 3], y in [-2.5, 2.5],
+// z in [0, 3]. Camera frame: x right, y down, z forward (OpenCV / TUM). Everything is made
+// of boxes (axis-aligned or yawed; person limbs also pitch), so the scene's 3D corners and
+// edges are known exactly.
+//
+// Scene kinds (the layout of furniture is the same in all of them):
+//   static   hand-held camera looking at the shelf / table / cabinet corner, no moving objects
+//   dynamic  the same camera path, two persons walking back and forth across the view
+//   crowded  a slower camera; two persons walking in file close to the camera (they cover
+//            more than half of the image while they pass) and a third one farther away
+//   loop     no moving objects; the camera goes once round an ellipse about the room centre
+//            looking outward at the walls, and its last pose equals its first
+// The seed changes the textures and the noise only; geometry and paths are fixed per kind.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "camera/pinhole_camera.h"
+#include "core/se3.h"
+#include "core/time.h"
+#include "core/trajectory.h"
+#include "synth/texture.h"
+
+namespace plslam::synth {
+
+enum class SceneKind { kStatic, kDynamic, kLoop, kCrowded };
+
+/// "static", "dynamic", "loop", "crowded".
+const char* sceneKindName(SceneKind kind);
+/// The inverse of sceneKindName; throws ConfigError naming the accepted names.
+SceneKind parseSceneKind(const std::string& name);
+/// Frames that give the kind TUM-like speeds (loop: one lap at about 0.35 m/s, 25 deg/s).
+int defaultFrameCount(SceneKind kind);
+
+/// Depth sensor imperfections (a Kinect-like model).
+struct DepthNoiseOptions {
+  bool enabled = true;              ///< false: exact depth (float metres), no dropouts, no colour noise
+  double sigma_k = 0.002;           ///< depth noise sigma = sigma_k * z^2 (metres, z in metres)
+  double quantum_m = 1.0 / 5000.0;  ///< depth values are rounded to this step (0: no rounding)
+  double dropout_fraction = 0.003;  ///< fraction of random pixels with no reading
+  double grazing_cos = 0.15;        ///< no reading where |cos(incidence)| is below this (about 81 deg)
+  double edge_jump_m = 0.04;        ///< no reading on the far side of a depth jump larger than this (+2% of z)
+  double min_depth_m = 0.4;         ///< no reading closer than this
+  double max_depth_m = 8.0;         ///< no reading farther than this
+  double colour_sigma = 1.0;        ///< Gaussian noise on the colour image, grey levels
+};
+
+struct SceneOptions {
+  int frames = 300;            ///< number of frames, 30 Hz (loop: the lap spans all of them)
+  uint64_t seed = 1;           ///< textures and noise (not the geometry or the paths)
+  int width = 640;             ///< image size; the focal length scales with the width (525 at 640)
+  int height = 480;            ///< image height, pixels
+  TimeNs start_ns = 1'600'000'000LL * kNsPerSecond;  ///< stamp of frame 0
+  int aa_samples = 4;          ///< samples per pixel at colour edges (1 = no anti-aliasing; max 16)
+  DepthNoiseOptions noise;     ///< depth and colour noise
+};
+
+struct Segment3d {
+  Eigen::Vector3d a, b;
+};
+
+/// A solid box: a pose, half sizes along its own axes, a material per face.
+/// Faces are numbered axis * 2 + (0 for the -half side, 1 for the +half side).
+struct Box {
+  std::string name;
+  SE3 T_w_b;                               ///< box frame (centre) in the world
+  Eigen::Vector3d half_size{0.5, 0.5, 0.5};  ///< metres
+  std::array<Material, 6> materials{};     ///< per face
+  uint64_t texture_seed = 0;               ///< per box
+  int instance_id = 0;                     ///< 0: static; >= 1: the moving object it belongs to
+  bool inward = false;                     ///< the room: seen from inside
+
+  std::array<Eigen::Vector3d, 8> corners() const;
+  std::array<Segment3d, 12> edges() const;
+  /// Signed distance to the box surface (negative inside the solid; for an inward box,
+  /// negative outside the room).
+  double signedDistance(const Eigen::Vector3d& p_w) const;
+};
+
+/// A moving object as it is listed in masks/instances.txt.
+struct MovingObjectInfo {
+  int instance_id = 0;     ///< >= 1, the value of its pixels in the instance masks
+  int class_id = 0;        ///< COCO class id (0: person)
+  std::string class_name;  ///< COCO class name
+};
+
+/// A person walking round a flat ellipse on the floor, facing where it goes, limbs swinging.
+struct WalkPath {
+  Eigen::Vector2d centre{0, 0};  ///< ellipse centre on the floor, metres
+  double a = 1.5, b = 0.2;       ///< semi-axes along x and y, metres
+  double period_s = 8.0;         ///< time of one round, seconds (negative: clockwise)
+  double phase = 0.0;            ///< ellipse angle at t = 0, radians
+};
+
+/// The result of casting a ray into the scene.
+struct RayHit {
+  bool hit = false;
+  double distance = 0;      ///< ray parameter: the point is origin + distance * dir
+  Eigen::Vector3d point{0, 0, 0};
+  Eigen::Vector3d normal{0, 0, 0};  ///< unit surface normal facing the ray
+  int instance_id = 0;      ///< 0: static scenery
+  int box = -1;             ///< index into boxesAt(t) (0 is the room)
+  int face = -1;            ///< face of that box
+};
+
+class Scene {
+ public:
+  SceneKind kind() const { return kind_; }
+  const SceneOptions& options() const { return options_; }
+  const PinholeCamera& camera() const { return camera_; }
+  int frameCount() const { return options_.frames; }
+
+  /// Stamp of frame i: start + i/30 s, rounded down to whole microseconds (so that TUM
+  /// files with 6 decimals hold it exactly).
+  TimeNs frameTime(int i) const;
+  /// T_w_c at frame i / at any time (the paths are smooth functions of time).
+  SE3 cameraPose(int i) const { return cameraPoseAt(frameTime(i)); }
+  SE3 cameraPoseAt(TimeNs t_ns) const;
+  /// One pose per frame, at the frame stamps.
+  Trajectory groundTruth() const;
+
+  /// The room (an inward box) and the furniture, in a fixed order.
+  const Box& room() const { return static_boxes_.front(); }
+  const std::vector<Box>& staticBoxes() const { return static_boxes_; }
+  /// Corners / edges of all static boxes, the room's included (visibility is the caller's problem).
+  std::vector<Eigen::Vector3d> staticCorners() const;
+  std::vector<Segment3d> staticEdges() const;
+
+  const std::vector<MovingObjectInfo>& movingObjects() const { return moving_info_; }
+  /// The parts of the moving objects at time t (each carries its instance id).
+  std::vector<Box> movingBoxes(TimeNs t_ns) const;
+  /// The static boxes followed by the moving ones at time t (RayHit::box indexes this).
+  std::vector<Box> boxesAt(TimeNs t_ns) const;
+
+  /// Distance from a world point to the nearest surface (static or moving) at time t.
+  double surfaceDistance(const Eigen::Vector3d& p_w, TimeNs t_ns) const;
+  /// Distance to the nearest static surface.
+  double staticSurfaceDistance(const Eigen::Vector3d& p_w) const;
+  /// The instance id of the moving object whose surface (or inside) is within `tolerance`
+  /// of p_w at time t; 0 when none.
+  int movingObjectAt(const Eigen::Vector3d& p_w, TimeNs t_ns, double tolerance = 1e-4) const;
+  /// The texture of a box face: its material, the box's seed and the face's size (the face's
+/// own axes in order: for face axis x, s runs along y and t along z; axis y: x, z; axis z: x, y).
+FaceTexture makeFaceTexture(const Box& box, int face);
+
+/// Nearest hit of the ray origin + s * dir, s > 1e-9, against every box (no acceleration;
+  /// the reference the renderer is tested against).
+  RayHit castRay(const Eigen::Vector3d& origin_w, const Eigen::Vector3d& dir_w, TimeNs t_ns) const;
+
+  /// The texture of face `face` of static box `box` (built once with the scene).
+  const FaceTexture& staticTexture(size_t box, int face) const { return *static_textures_[box][face]; }
+
+  /// A small text description (scene.txt): kind, seed, camera, boxes, persons and their paths.
+  std::string describe() const;
+
+ private:
+  friend Scene makeScene(SceneKind kind, const SceneOptions& options);
+  SceneKind kind_ = SceneKind::kStatic;
+  SceneOptions options_;
+  PinholeCamera camera_;
+  std::vector<Box> static_boxes_;
+  std::vector<std::array<std::shared_ptr<const FaceTexture>, 6>> static_textures_;
+  std::vector<MovingObjectInfo> moving_info_;
+  std::vector<WalkPath> walks_;  // one per moving object, same order
+};
+
+/// The texture of a box face: its material, the box's seed and the face's size (the face's
+/// own axes in order: for face axis x, s runs along y and t along z; axis y: x, z; axis z: x, y).
+FaceTexture makeFaceTexture(const Box& box, int face);
+
+/// Nearest hit of the ray origin + s * dir (s > 1e-9) against every box of `boxes`
+/// (RayHit::box indexes it); what Scene::castRay does with boxesAt(t).
+RayHit castRay(const std::vector<Box>& boxes, const Eigen::Vector3d& origin_w, const Eigen::Vector3d& dir_w);
+
+/// Builds a scene; throws ConfigError for bad options (frames < 1, size out of range...).
+Scene makeScene(SceneKind kind, const SceneOptions& options = {});
+
+/// The camera of a scene of the given image size: fx = fy = 525 * width / 640, centre at
+/// ((w-1)/2, (h-1)/2), no distortion, depth scale 5000, name "synthetic".
+PinholeCamera syntheticCamera(int width, int height);
+
+}  // namespace plslam::synth

@@ -1,0 +1,125 @@
+// Runs the built `plslam eval` as a user would.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <opencv2/imgcodecs.hpp>
+
+#include "io/trajectory_file.h"
+#include "support/test_support.h"
+
+using namespace plslam;
+
+namespace {
+
+struct CliRun {
+  int status = -1;  ///< exit code
+  std::string out;
+};
+
+CliRun run(const std::string& args) {
+  const std::string cmd = test::binaryDir() + "/plslam eval " + args;
+  CliRun r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  for (size_t n; (n = fread(buf, 1, sizeof(buf), p)) > 0;) r.out.append(buf, n);
+  const int st = pclose(p);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+/// The number after "key": at or after `from` in a JSON text; NaN when absent.
+double jsonNumber(const std::string& json, const std::string& key, size_t from = 0) {
+  const size_t k = json.find("\"" + key + "\":", from);
+  if (k == std::string::npos) return std::nan("");
+  return std::strtod(json.c_str() + k + key.size() + 3, nullptr);
+}
+
+std::string quoted(const std::string& s) { return "'" + s + "'"; }
+
+}  // namespace
+
+TEST(EvalCli, JsonOnTheReferencePairGivesTheBenchmarkFigures) {
+  PLSLAM_REQUIRE_SHARED("data/trajectories");
+  const std::string dir = test::sharedDir() + "/data/trajectories/";
+  const CliRun r = run("--gt " + quoted(dir + "freiburg1_xyz-groundtruth.txt") + " --est " +
+                    quoted(dir + "freiburg1_xyz-rgbdslam.txt") + " --json 2>/dev/null");
+  ASSERT_EQ(r.status, 0) << r.out;
+  // Exactly one JSON object: '{' first, its matching '}' last.
+  const size_t b = r.out.find_first_not_of(" \n"), e = r.out.find_last_not_of(" \n");
+  ASSERT_NE(b, std::string::npos);
+  EXPECT_EQ(r.out[b], '{');
+  EXPECT_EQ(r.out[e], '}');
+  int depth = 0;
+  for (size_t i = b; i <= e; ++i) {
+    depth += r.out[i] == '{' ? 1 : r.out[i] == '}' ? -1 : 0;
+    if (i < e) {
+      ASSERT_GT(depth, 0) << "the object closes before the end of the output";
+    }
+  }
+  EXPECT_EQ(depth, 0);
+
+  EXPECT_EQ(jsonNumber(r.out, "pairs"), 786);
+  const size_t ate = r.out.find("\"ate\"");
+  ASSERT_NE(ate, std::string::npos);
+  EXPECT_NEAR(jsonNumber(r.out, "rmse", ate), 0.013473, 1e-5);
+  EXPECT_NEAR(jsonNumber(r.out, "mean", ate), 0.012029, 1e-5);
+  EXPECT_NEAR(jsonNumber(r.out, "median", ate), 0.011176, 1e-5);
+  const size_t rpe = r.out.find("\"rpe\"");
+  ASSERT_NE(rpe, std::string::npos);
+  EXPECT_GT(jsonNumber(r.out, "pairs", rpe), 0);
+  EXPECT_NEAR(jsonNumber(r.out, "trans_rmse", rpe), 0.021217, 1e-5);
+  EXPECT_NEAR(jsonNumber(r.out, "rot_rmse_deg", rpe), 0.934480, 1e-5);
+  EXPECT_FALSE(std::isnan(jsonNumber(r.out, "trans_mean", rpe)));
+  EXPECT_FALSE(std::isnan(jsonNumber(r.out, "rot_mean_deg", rpe)));
+}
+
+TEST(EvalCli, PlotWritesAPngOfTheDocumentedSize) {
+  PLSLAM_REQUIRE_SHARED("data/trajectories");
+  const std::string dir = test::sharedDir() + "/data/trajectories/";
+  const std::string png = test::scratchDir("eval") + "/ate.png";
+  const CliRun r = run("--gt " + quoted(dir + "fr2_desk_groundtruth.txt") + " --est " + quoted(dir + "fr2_desk_ORB.txt") +
+                    " --plot " + quoted(png) + " 2>/dev/null");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("ATE"), std::string::npos) << r.out;  // the text summary by default
+  const cv::Mat img = cv::imread(png, cv::IMREAD_UNCHANGED);
+  ASSERT_FALSE(img.empty());
+  EXPECT_EQ(img.cols, 1000);  // PlotOptions defaults
+  EXPECT_EQ(img.rows, 800);
+  ASSERT_EQ(img.type(), CV_8UC3);
+  // Something coloured was drawn (the estimate and the colour bar), not only grey and white.
+  int coloured = 0;
+  for (auto it = img.begin<cv::Vec3b>(); it != img.end<cv::Vec3b>(); ++it) {
+    const cv::Vec3b c = *it;
+    if (std::max({c[0], c[1], c[2]}) - std::min({c[0], c[1], c[2]}) > 80) ++coloured;
+  }
+  EXPECT_GT(coloured, 1000);
+}
+
+TEST(EvalCli, NoOverlapFailsWithAMessageNamingBothFiles) {
+  const std::string dir = test::scratchDir("eval");
+  Trajectory gt, est;
+  for (int k = 0; k < 10; ++k) {
+    gt.push_back({(100 + k) * kNsPerSecond, SE3()});
+    est.push_back({(200 + k) * kNsPerSecond, SE3()});
+  }
+  writeTumTrajectory(dir + "/the_gt.txt", gt);
+  writeTumTrajectory(dir + "/the_est.txt", est);
+  const CliRun r = run("--gt " + quoted(dir + "/the_gt.txt") + " --est " + quoted(dir + "/the_est.txt") + " --json 2>&1");
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("the_gt.txt"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("the_est.txt"), std::string::npos) << r.out;
+}
+
+TEST(EvalCli, BadOptionValuesAreRefused) {
+  const CliRun r = run("--gt a.txt --est b.txt --delta -1 2>&1");
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_NE(r.out.find("--delta"), std::string::npos) << r.out;
+  const CliRun missing = run("--gt a.txt 2>&1");
+  EXPECT_EQ(missing.status, 2) << missing.out;
+  EXPECT_NE(missing.out.find("--est"), std::string::npos) << missing.out;
+}

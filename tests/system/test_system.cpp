@@ -1,0 +1,149 @@
+// The whole pipeline on synthetic scenes with exact ground truth, on broken input, and on
+// the real TUM sequences of ../shared (regression thresholds, skipped without it).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "camera/camera_file.h"
+#include "core/error.h"
+#include "eval/trajectory_eval.h"
+#include "io/dataset.h"
+#include "support/test_support.h"
+#include "synthetic_cache.h"
+#include "system/system.h"
+
+using namespace plslam;
+
+namespace {
+
+struct RunResult {
+  Trajectory trajectory;
+  RunStats stats;
+  double ate = NAN;
+};
+
+RunResult runOn(const std::string& dir, const PinholeCamera& camera, SystemOptions options) {
+  TumDataset data = TumDataset::open(dir, camera);
+  System slam(camera, options);
+  slam.start();
+  RgbdFrame frame;
+  while (data.next(&frame)) slam.feed(frame);
+  slam.finish();
+  RunResult r;
+  r.trajectory = slam.trajectory();
+  r.stats = slam.stats();
+  if (data.hasGroundtruth() && r.trajectory.size() >= 3) r.ate = evaluate(data.groundtruth(), r.trajectory).ate.stats.rmse;
+  return r;
+}
+
+SystemOptions sequential() {
+  SystemOptions o;
+  o.sequential = true;
+  return o;
+}
+
+}  // namespace
+
+TEST(SystemSynthetic, StaticSceneWithinFiveMillimetresAndDeterministic) {
+  const std::string dir = test::syntheticSequence(synth::SceneKind::kStatic, 120);
+  const PinholeCamera camera = loadCameraFile(dir + "/camera.xml");
+  const RunResult a = runOn(dir, camera, sequential());
+  EXPECT_EQ(a.stats.tracked, a.stats.frames);
+  EXPECT_EQ(a.stats.lost_events, 0);
+  EXPECT_LT(a.ate, 0.005) << "ATE RMSE on the synthetic static scene";
+  EXPECT_GT(a.stats.map_lines, 20) << "lines should be mapped on a scene full of edges";
+  const RunResult b = runOn(dir, camera, sequential());
+  ASSERT_EQ(a.trajectory.size(), b.trajectory.size());
+  for (size_t i = 0; i < a.trajectory.size(); ++i) {
+    ASSERT_EQ(a.trajectory[i].t_ns, b.trajectory[i].t_ns);
+    ASSERT_EQ(a.trajectory[i].T_w_c.matrix(), b.trajectory[i].T_w_c.matrix()) << "sequential runs differ at pose " << i;
+  }
+}
+
+TEST(SystemSynthetic, ThreadedModeTracksAndFinishes) {
+  const std::string dir = test::syntheticSequence(synth::SceneKind::kStatic, 120);
+  const PinholeCamera camera = loadCameraFile(dir + "/camera.xml");
+  SystemOptions threaded;
+  threaded.sequential = false;
+  const RunResult r = runOn(dir, camera, threaded);
+  EXPECT_EQ(r.stats.tracked, r.stats.frames);
+  EXPECT_LT(r.ate, 0.01);
+  EXPECT_GT(r.stats.keyframes, 2);
+}
+
+TEST(SystemSynthetic, PointsOnlyStillTracks) {
+  const std::string dir = test::syntheticSequence(synth::SceneKind::kStatic, 120);
+  const PinholeCamera camera = loadCameraFile(dir + "/camera.xml");
+  SystemOptions o = sequential();
+  o.use_lines = false;
+  const RunResult r = runOn(dir, camera, o);
+  EXPECT_EQ(r.stats.map_lines, 0);
+  EXPECT_EQ(r.stats.tracked, r.stats.frames);
+  EXPECT_LT(r.ate, 0.01);
+}
+
+TEST(SystemRobustness, FramesWithoutDepthOrTextureGiveAStatusNotACrash) {
+  const std::string dir = test::syntheticSequence(synth::SceneKind::kStatic, 120);
+  const PinholeCamera camera = loadCameraFile(dir + "/camera.xml");
+  TumDataset data = TumDataset::open(dir, camera);
+  System slam(camera, sequential());
+  slam.start();
+
+  RgbdFrame blank;
+  blank.t_ns = 1;
+  blank.bgr = cv::Mat(camera.height, camera.width, CV_8UC3, cv::Scalar(90, 90, 90));
+  blank.depth_m = cv::Mat(camera.height, camera.width, CV_32F, cv::Scalar(NAN));
+  TrackingResult r = slam.feed(blank);
+  EXPECT_EQ(r.status, TrackingStatus::kNotInitialized);
+  EXPECT_FALSE(r.reason.empty());
+
+  RgbdFrame frame;
+  ASSERT_TRUE(data.next(&frame));
+  RgbdFrame no_depth = frame;
+  no_depth.depth_m = cv::Mat(camera.height, camera.width, CV_32F, cv::Scalar(NAN));
+  EXPECT_EQ(slam.feed(no_depth).status, TrackingStatus::kNotInitialized) << "textured but no depth: cannot initialise";
+  EXPECT_EQ(slam.feed(frame).status, TrackingStatus::kInitialized);
+
+  blank.t_ns = frame.t_ns + 1000;
+  r = slam.feed(blank);
+  EXPECT_FALSE(isTracked(r.status));
+  EXPECT_FALSE(r.reason.empty());
+  RgbdFrame empty;
+  empty.t_ns = blank.t_ns + 1000;
+  EXPECT_FALSE(isTracked(slam.feed(empty).status));
+
+  // Back to real frames: relocalisation finds the map again.
+  int tracked = 0;
+  for (int i = 0; i < 10 && data.next(&frame); ++i) tracked += isTracked(slam.feed(frame).status);
+  EXPECT_GE(tracked, 8);
+  slam.finish();
+  EXPECT_EQ(slam.stats().lost_events, 1);
+  EXPECT_GE(slam.stats().relocalisations, 1);
+  EXPECT_THROW(slam.feed(frame), Error);
+}
+
+namespace {
+void expectTumRegression(const std::string& sequence, const std::string& calib, double max_ate, bool all_tracked) {
+  const std::string dir = test::sharedDir() + "/data/tum/" + sequence;
+  const PinholeCamera camera = loadCameraFile(test::sourceDir() + "/calib/" + calib);
+  const RunResult r = runOn(dir, camera, sequential());
+  std::printf("%s: ATE RMSE %.4f m, tracked %d/%d, keyframes %d, line rate fitting %.3f endpoints %.3f\n",
+              sequence.c_str(), r.ate, r.stats.tracked, r.stats.frames, r.stats.keyframes, r.stats.line_rate_fitting,
+              r.stats.line_rate_endpoints);
+  EXPECT_LE(r.ate, max_ate);
+  if (all_tracked) {
+    EXPECT_EQ(r.stats.tracked, r.stats.frames);
+  }
+  EXPECT_GT(r.stats.line_rate_fitting, r.stats.line_rate_endpoints) << "fitting should build more 3D lines";
+}
+}  // namespace
+
+TEST(TumRegression, Fr1XyzAteAndTracking) {
+  PLSLAM_REQUIRE_SHARED("data/tum/fr1_xyz_0-199");
+  expectTumRegression("fr1_xyz_0-199", "tum_freiburg1.xml", 0.012, true);
+}
+
+TEST(TumRegression, Fr3SittingStaticAte) {
+  PLSLAM_REQUIRE_SHARED("data/tum/fr3_sitting_static_150");
+  expectTumRegression("fr3_sitting_static_150", "tum_freiburg3.xml", 0.015, false);
+}

@@ -1,0 +1,127 @@
+// Runs the built `plslam bench` as a user would, on a short synthetic scene with no shared/.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "support/test_support.h"
+
+using namespace plslam;
+
+namespace {
+
+struct CliRun {
+  int status = -1;  ///< exit code
+  std::string out;  ///< stdout and stderr
+};
+
+CliRun run(const std::string& args) {
+  const std::string cmd = test::binaryDir() + "/plslam bench " + args + " 2>&1";
+  CliRun r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  for (size_t n; (n = fread(buf, 1, sizeof(buf), p)) > 0;) r.out.append(buf, n);
+  const int st = pclose(p);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+/// The cells of the Markdown table row whose first cell is `name` (empty when none).
+std::vector<std::string> tableRow(const std::string& md, const std::string& name) {
+  std::istringstream in(md);
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("| " + name + " |", 0) != 0) continue;
+    std::vector<std::string> cells;
+    std::stringstream ss(line.substr(1));
+    for (std::string c; std::getline(ss, c, '|');) {
+      c.erase(0, c.find_first_not_of(' '));
+      c.erase(c.find_last_not_of(' ') + 1);
+      cells.push_back(c);
+    }
+    return cells;
+  }
+  return {};
+}
+
+/// Brackets and braces balance outside strings, and the text is one object.
+bool looksLikeOneJsonObject(const std::string& json) {
+  const size_t b = json.find_first_not_of(" \n"), e = json.find_last_not_of(" \n");
+  if (b == std::string::npos || json[b] != '{' || json[e] != '}') return false;
+  std::string stack;
+  bool in_string = false;
+  for (size_t i = b; i <= e; ++i) {
+    const char c = json[i];
+    if (in_string) {
+      if (c == '\\') ++i;
+      else if (c == '"') in_string = false;
+      continue;
+    }
+    if (c == '"') in_string = true;
+    else if (c == '{' || c == '[') stack.push_back(c);
+    else if (c == '}' || c == ']') {
+      if (stack.empty() || stack.back() != (c == '}' ? '{' : '[')) return false;
+      stack.pop_back();
+      if (stack.empty() && i != e) return false;
+    } else if (c == 'n' && json.compare(i, 3, "nan") == 0) {
+      return false;  // JSON has no NaN
+    }
+  }
+  return stack.empty() && !in_string;
+}
+
+}  // namespace
+
+TEST(BenchCli, SyntheticSceneGivesATableRowAndJsonAndAnnouncesTheTumSkip) {
+  const std::string out = test::scratchDir("bench");
+  const CliRun r = run("--runs 1 --scenes static --synthetic-frames 40 --shared /nonexistent --out '" + out + "'");
+  ASSERT_EQ(r.status, 0) << r.out;
+
+  // The missing shared/ folder is said, not silently ignored.
+  EXPECT_NE(r.out.find("TUM sequences skipped"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("/nonexistent"), std::string::npos) << r.out;
+
+  const std::string md = readFile(out + "/results.md");
+  const std::vector<std::string> row = tableRow(md, "synthetic_static");
+  ASSERT_GE(row.size(), 11u) << md;
+  EXPECT_EQ(std::atoi(row[1].c_str()), 40) << "frames column";
+  const double ate = std::strtod(row[2].c_str(), nullptr);
+  EXPECT_TRUE(std::isfinite(ate) && ate >= 0) << "ATE cell: " << row[2];
+  EXPECT_EQ(row[8], "yes") << "lines column";
+  EXPECT_EQ(row[9], "no") << "dynamic column";
+  EXPECT_EQ(row[10], "no") << "loop column";
+  // The same table went to stdout.
+  EXPECT_NE(r.out.find("| synthetic_static | 40 |"), std::string::npos);
+
+  const std::string json = readFile(out + "/results.json");
+  EXPECT_TRUE(looksLikeOneJsonObject(json)) << json;
+  EXPECT_NE(json.find("\"synthetic_static\""), std::string::npos);
+  const size_t k = json.find("\"ate_rmse\":");
+  ASSERT_NE(k, std::string::npos) << json;
+  EXPECT_NE(json.find("\"peak_rss_mb\":"), std::string::npos);
+
+  // Each run's outputs and the plot of the median run.
+  namespace fs = std::filesystem;
+  EXPECT_TRUE(fs::exists(out + "/synthetic_static/run1/trajectory.txt"));
+  EXPECT_TRUE(fs::exists(out + "/synthetic_static/run1/stats.json"));
+  EXPECT_TRUE(fs::exists(out + "/synthetic_static/trajectory.png"));
+}
+
+TEST(BenchCli, UnknownSceneIsRefused) {
+  const std::string out = test::scratchDir("bench");
+  const CliRun r = run("--runs 1 --scenes nosuchscene --shared /nonexistent --out '" + out + "'");
+  EXPECT_NE(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("nosuchscene"), std::string::npos) << r.out;
+}

@@ -1,0 +1,535 @@
+// plslam bench: every TUM sequence of shared/data/tum and the chosen synthetic scenes, each
+// run N times in threaded mode (docs/BENCHMARK.md: median with min and max), one Markdown
+// table on stdout and in <out>/results.md, the same figures in <out>/results.json, each
+// run's outputs in <out>/<sequence>/run<k>/ and a plot of the median run.
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <limits>
+#include <sstream>
+#include <thread>
+
+#include "camera/camera_file.h"
+#include "commands.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/log.h"
+#include "eval/trajectory_plot.h"
+#include "io/dataset.h"
+#include "run_session.h"
+#include "synth/dataset.h"
+#include "synth/scene.h"
+#include "system/run_outputs.h"
+#include "system/system.h"
+
+#ifndef PLSLAM_SOURCE_DIR
+#define PLSLAM_SOURCE_DIR "."
+#endif
+#ifndef PLSLAM_BUILD_TYPE
+#define PLSLAM_BUILD_TYPE ""
+#endif
+
+namespace plslam::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+/// A sequence to run: a TUM folder or a rendered synthetic scene.
+struct SequenceSpec {
+  std::string name;         ///< row name: the TUM folder's name or synthetic_<scene>
+  std::string kind;         ///< "tum" or "synthetic"
+  std::string dir;          ///< dataset folder (synthetic: filled once rendered)
+  std::string camera_file;  ///< camera file
+  synth::SceneKind scene = synth::SceneKind::kStatic;
+};
+
+/// One run's figures.
+struct RunFigures {
+  int run = 0;  ///< 1-based
+  std::string dir;
+  int frames = 0, fed = 0, tracked = 0, keyframes = 0, skipped_frames = 0;
+  double tracked_fraction = 0;
+  double ate = kNaN, rpe_trans = kNaN, rpe_rot = kNaN;
+  int ate_pairs = 0, rpe_pairs = 0;
+  double tracking_median = 0, tracking_p95 = 0, features_median = 0;
+  double wall_s = 0;
+  std::string eval_error;
+  Trajectory estimate;  ///< kept for the plot of the median run
+  AteResult ate_result;
+};
+
+struct SequenceResult {
+  SequenceSpec spec;
+  int frames = 0;  ///< associated frames in the folder
+  std::vector<RunFigures> runs;
+  int median_run = -1;  ///< index into runs of the run whose ATE is the median (plotted)
+  std::string plot;
+  double wall_s = 0, render_s = 0;
+  double peak_rss_mb = 0;  ///< process peak so far, after this sequence
+  std::string error;       ///< the sequence could not be completed
+};
+
+/// Median (summarize()'s convention), min and max over the finite values.
+struct Spread {
+  double median = kNaN, min = kNaN, max = kNaN;
+  int count = 0;
+};
+Spread spread(const std::vector<double>& values) {
+  std::vector<double> v;
+  for (double x : values)
+    if (std::isfinite(x)) v.push_back(x);
+  Spread s;
+  s.count = static_cast<int>(v.size());
+  if (v.empty()) return s;
+  s.median = summarize(v).median;
+  s.min = *std::min_element(v.begin(), v.end());
+  s.max = *std::max_element(v.begin(), v.end());
+  return s;
+}
+
+template <typename F>
+std::vector<double> collect(const std::vector<RunFigures>& runs, F f) {
+  std::vector<double> v;
+  for (const RunFigures& r : runs) v.push_back(f(r));
+  return v;
+}
+
+double peakRssMb() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_maxrss / 1024.0;  // kilobytes on Linux
+}
+
+std::string format(const char* fmt, double x) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), fmt, x);
+  return buf;
+}
+
+/// "median (min-max)", the bare value when all runs agree, "n/a" without values; the
+/// number of runs that gave a value when some did not.
+std::string cell(const Spread& s, const char* fmt, int runs, double scale = 1.0) {
+  if (s.count == 0) return "n/a";
+  std::string text = format(fmt, s.median * scale);
+  const std::string lo = format(fmt, s.min * scale), hi = format(fmt, s.max * scale);
+  if (lo != hi) text += " (" + lo + "-" + hi + ")";
+  if (s.count < runs) text += " [" + std::to_string(s.count) + "/" + std::to_string(runs) + " runs]";
+  return text;
+}
+
+std::string jsonNumber(double x) {
+  if (!std::isfinite(x)) return "null";
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.6g", x);
+  return buf;
+}
+
+std::string jsonSpread(const Spread& s) {
+  return "{\"median\": " + jsonNumber(s.median) + ", \"min\": " + jsonNumber(s.min) + ", \"max\": " +
+         jsonNumber(s.max) + ", \"runs\": " + std::to_string(s.count) + "}";
+}
+
+std::vector<std::string> splitList(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream ss(text);
+  for (std::string item; std::getline(ss, item, ',');) {
+    item.erase(0, item.find_first_not_of(" \t"));
+    item.erase(item.find_last_not_of(" \t") + 1);
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+/// The camera file of a TUM folder from its name (fr1/freiburg1...); empty when unknown.
+std::string tumCameraFor(const std::string& name, const std::string& calib_dir) {
+  std::string lower = name;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (const char* n : {"1", "2", "3"})
+    if (lower.find(std::string("fr") + n) != std::string::npos ||
+        lower.find(std::string("freiburg") + n) != std::string::npos)
+      return calib_dir + "/tum_freiburg" + n + ".xml";
+  return "";
+}
+
+/// Renders the scene into `dir` unless an identical one (same scene.txt) is complete there.
+/// Returns the seconds spent rendering (0 when reused).
+double prepareSynthetic(const synth::Scene& scene, const std::string& dir, const std::string& name) {
+  const fs::path root(dir);
+  if (fs::exists(root / "rgb.txt") && fs::exists(root / "scene.txt")) {
+    try {
+      if (readTextFile((root / "scene.txt").string()) == scene.describe()) return 0;
+    } catch (const Error&) {
+      // unreadable: render again
+    }
+  }
+  // A different scene (or an interrupted render): drop the old images so no stale frame stays
+  // beside the new lists; the run folders are kept.
+  std::error_code ec;
+  fs::remove(root / "rgb.txt", ec);
+  for (const char* sub : {"rgb", "depth", "masks"}) fs::remove_all(root / sub, ec);
+  synth::DatasetOptions options;
+  options.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const auto t0 = std::chrono::steady_clock::now();
+  options.progress = [&](int done, int total) {
+    if (done % 10 != 0 && done != total) return;
+    std::fprintf(stderr, "\r[bench] rendering %s: frame %d/%d%s", name.c_str(), done, total, done == total ? "\n" : "");
+    std::fflush(stderr);
+  };
+  synth::writeDataset(scene, dir, options);
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+struct BenchSettings {
+  std::string out;
+  int runs = 3;
+  SystemOptions options;
+  std::string config_yaml;
+};
+
+/// Runs one sequence `runs` times; fills `result` (also on an error, with what is done).
+void runSequence(const BenchSettings& settings, SequenceResult* result, bool* interrupted) {
+  const SequenceSpec& spec = result->spec;
+  const PinholeCamera camera = loadCameraFile(spec.camera_file);
+  TumDataset dataset = TumDataset::open(spec.dir, camera);
+  result->frames = static_cast<int>(dataset.size());
+  const std::string seq_out = settings.out + "/" + spec.name;
+
+  for (int k = 1; k <= settings.runs && !*interrupted; ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    dataset.rewind();
+    System slam(camera, settings.options);
+    slam.start();
+    FeedResult fed;
+    {
+      SigintGuard sigint;
+      fed = feedFrames(&slam, &dataset, [&](const FeedProgress& p) {
+        std::fprintf(stderr, "\r[bench] %s run %d/%d frame %zu/%zu  tracked %d  keyframes %zu  %.1f frames/s  ",
+                     spec.name.c_str(), k, settings.runs, p.done, p.total, p.tracked, p.keyframes,
+                     p.done / std::max(p.seconds, 1e-9));
+        std::fflush(stderr);
+      });
+      std::fprintf(stderr, "\n");
+    }
+    if (fed.interrupted) {
+      *interrupted = true;
+      std::fprintf(stderr, "[bench] interrupted: finishing this run, writing what there is, skipping the rest\n");
+    }
+    slam.finish();
+
+    RunFigures r;
+    r.run = k;
+    r.dir = seq_out + "/run" + std::to_string(k);
+    r.estimate = slam.trajectory();
+    const RunEvaluation ev = evaluateRun(dataset, r.estimate);
+    writeRunOutputs(r.dir, slam, settings.config_yaml, runStatsExtra(dataset, ev));
+    const RunStats st = slam.stats();
+    r.frames = result->frames;
+    r.fed = st.frames;
+    r.tracked = st.tracked;
+    r.keyframes = st.keyframes;
+    r.skipped_frames = dataset.skippedTotal();
+    // Frames with a pose / frames given (a frame that failed to load has no pose).
+    r.tracked_fraction = r.frames ? static_cast<double>(r.estimate.size()) / r.frames : 0.0;
+    const Summary tms = summarize(st.tracking_ms);
+    r.tracking_median = tms.median;
+    r.tracking_p95 = tms.p95;
+    r.features_median = summarize(st.features_ms).median;
+    if (ev.ok) {
+      r.ate = ev.result.ate.stats.rmse;
+      r.ate_pairs = ev.result.ate.stats.count;
+      r.ate_result = ev.result.ate;
+      r.rpe_pairs = ev.result.rpe.pairs;
+      if (ev.result.rpe.pairs > 0) {
+        r.rpe_trans = ev.result.rpe.trans.rmse;
+        r.rpe_rot = ev.result.rpe.rot_deg.rmse;
+      }
+    } else {
+      r.eval_error = ev.attempted ? ev.error
+                                  : (dataset.hasGroundtruth() ? "fewer than 3 tracked frames" : "no ground truth");
+    }
+    r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::fprintf(stderr, "[bench] %s run %d/%d: %s, tracked %.1f%%, %d keyframes, tracking %.1f ms median (%.1f s)\n",
+                 spec.name.c_str(), k, settings.runs,
+                 ev.ok ? format("ATE %.4f m", r.ate).c_str() : ("no ATE (" + r.eval_error + ")").c_str(),
+                 100.0 * r.tracked_fraction, r.keyframes, r.tracking_median, r.wall_s);
+    result->runs.push_back(std::move(r));
+  }
+
+  // Plot the run whose ATE is the median one (the lower middle for an even count).
+  std::vector<int> evaluated;
+  for (size_t i = 0; i < result->runs.size(); ++i)
+    if (std::isfinite(result->runs[i].ate)) evaluated.push_back(static_cast<int>(i));
+  if (!evaluated.empty()) {
+    std::sort(evaluated.begin(), evaluated.end(),
+              [&](int a, int b) { return result->runs[a].ate < result->runs[b].ate; });
+    result->median_run = evaluated[(evaluated.size() - 1) / 2];
+    const RunFigures& m = result->runs[result->median_run];
+    PlotOptions plot;
+    plot.title = spec.name + ", run " + std::to_string(m.run) + " of " + std::to_string(result->runs.size()) +
+                 " (median ATE), " + (settings.options.sequential ? "sequential" : "threaded") +
+                 (settings.options.use_lines ? ", points+lines" : ", points only");
+    result->plot = seq_out + "/trajectory.png";
+    plotTrajectories(result->plot, dataset.groundtruth(), m.estimate, m.ate_result, plot);
+  }
+}
+
+std::string markdownTable(const std::vector<SequenceResult>& results, int runs, bool lines) {
+  std::ostringstream os;
+  os << "| sequence | frames | ATE RMSE m median (min-max) | RPE trans m/s | RPE rot deg/s | tracked | keyframes "
+        "| tracking ms median / p95 | lines | dynamic | loop |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const SequenceResult& s : results) {
+    const auto& r = s.runs;
+    os << "| " << s.spec.name << " | " << s.frames << " | ";
+    if (r.empty()) {
+      os << "failed: " << s.error << " | | | | | | " << (lines ? "yes" : "no") << " | no | no |\n";
+      continue;
+    }
+    os << cell(spread(collect(r, [](const RunFigures& x) { return x.ate; })), "%.4f", runs) << " | "
+       << cell(spread(collect(r, [](const RunFigures& x) { return x.rpe_trans; })), "%.4f", runs) << " | "
+       << cell(spread(collect(r, [](const RunFigures& x) { return x.rpe_rot; })), "%.3f", runs) << " | "
+       << cell(spread(collect(r, [](const RunFigures& x) { return x.tracked_fraction; })), "%.1f%%", runs, 100.0)
+       << " | " << cell(spread(collect(r, [](const RunFigures& x) { return double(x.keyframes); })), "%.0f", runs)
+       << " | " << format("%.1f", spread(collect(r, [](const RunFigures& x) { return x.tracking_median; })).median)
+       << " / " << format("%.1f", spread(collect(r, [](const RunFigures& x) { return x.tracking_p95; })).median)
+       << " | " << (lines ? "yes" : "no") << " | no | no |\n";
+  }
+  return os.str();
+}
+
+std::string resultsJson(const std::vector<SequenceResult>& results, const std::vector<std::string>& notes,
+                        const BenchSettings& settings, const std::string& shared, double peak_mb, double wall_s,
+                        bool interrupted) {
+  std::ostringstream os;
+  os << "{\n  \"build_type\": " << jsonQuote(PLSLAM_BUILD_TYPE)
+     << ",\n  \"mode\": " << jsonQuote(settings.options.sequential ? "sequential" : "threaded")
+     << ",\n  \"runs_per_sequence\": " << settings.runs << ",\n  \"shared_dir\": " << jsonQuote(shared)
+     << ",\n  \"modules\": {\"lines\": " << (settings.options.use_lines ? "true" : "false")
+     << ", \"dynamic\": false, \"loop_closure\": false}"
+     << ",\n  \"peak_rss_mb\": " << jsonNumber(peak_mb) << ",\n  \"wall_s\": " << jsonNumber(wall_s)
+     << ",\n  \"interrupted\": " << (interrupted ? "true" : "false") << ",\n  \"notes\": [";
+  for (size_t i = 0; i < notes.size(); ++i) os << (i ? ", " : "") << jsonQuote(notes[i]);
+  os << "],\n  \"sequences\": [";
+  for (size_t i = 0; i < results.size(); ++i) {
+    const SequenceResult& s = results[i];
+    const auto& r = s.runs;
+    os << (i ? "," : "") << "\n    {\"sequence\": " << jsonQuote(s.spec.name) << ", \"kind\": " << jsonQuote(s.spec.kind)
+       << ", \"dataset\": " << jsonQuote(s.spec.dir) << ", \"camera\": " << jsonQuote(s.spec.camera_file)
+       << ", \"frames\": " << s.frames << ",\n     \"ate_rmse\": "
+       << jsonSpread(spread(collect(r, [](const RunFigures& x) { return x.ate; })))
+       << ",\n     \"rpe_trans_rmse\": " << jsonSpread(spread(collect(r, [](const RunFigures& x) { return x.rpe_trans; })))
+       << ",\n     \"rpe_rot_rmse_deg\": "
+       << jsonSpread(spread(collect(r, [](const RunFigures& x) { return x.rpe_rot; })))
+       << ",\n     \"tracked_fraction\": "
+       << jsonSpread(spread(collect(r, [](const RunFigures& x) { return x.tracked_fraction; })))
+       << ",\n     \"keyframes\": "
+       << jsonSpread(spread(collect(r, [](const RunFigures& x) { return double(x.keyframes); })))
+       << ",\n     \"tracking_ms_median\": "
+       << jsonSpread(spread(collect(r, [](const RunFigures& x) { return x.tracking_median; })))
+       << ",\n     \"tracking_ms_p95\": "
+       << jsonSpread(spread(collect(r, [](const RunFigures& x) { return x.tracking_p95; })))
+       << ",\n     \"wall_s\": " << jsonNumber(s.wall_s) << ", \"render_s\": " << jsonNumber(s.render_s)
+       << ", \"peak_rss_mb_so_far\": " << jsonNumber(s.peak_rss_mb)
+       << ", \"median_run\": " << (s.median_run >= 0 ? std::to_string(r[s.median_run].run) : "null")
+       << ", \"plot\": " << (s.plot.empty() ? "null" : jsonQuote(s.plot))
+       << ", \"error\": " << (s.error.empty() ? "null" : jsonQuote(s.error)) << ",\n     \"runs\": [";
+    for (size_t k = 0; k < r.size(); ++k) {
+      const RunFigures& x = r[k];
+      os << (k ? "," : "") << "\n       {\"run\": " << x.run << ", \"dir\": " << jsonQuote(x.dir)
+         << ", \"ate_rmse\": " << jsonNumber(x.ate) << ", \"ate_pairs\": " << x.ate_pairs
+         << ", \"rpe_trans_rmse\": " << jsonNumber(x.rpe_trans) << ", \"rpe_rot_rmse_deg\": " << jsonNumber(x.rpe_rot)
+         << ", \"rpe_pairs\": " << x.rpe_pairs << ", \"frames_fed\": " << x.fed << ", \"tracked\": " << x.tracked
+         << ", \"poses\": " << x.estimate.size() << ", \"tracked_fraction\": " << jsonNumber(x.tracked_fraction)
+         << ", \"keyframes\": " << x.keyframes << ", \"skipped_frames\": " << x.skipped_frames
+         << ", \"tracking_ms\": {\"median\": " << jsonNumber(x.tracking_median)
+         << ", \"p95\": " << jsonNumber(x.tracking_p95) << "}, \"features_ms_median\": "
+         << jsonNumber(x.features_median) << ", \"wall_s\": " << jsonNumber(x.wall_s)
+         << ", \"eval_error\": " << (x.eval_error.empty() ? "null" : jsonQuote(x.eval_error)) << "}";
+    }
+    os << "]}";
+  }
+  os << "\n  ]\n}\n";
+  return os.str();
+}
+
+int runBench(int argc, char** argv) {
+  const char* env_shared = std::getenv("PLSLAM_SHARED_DIR");
+  const std::string default_shared =
+      env_shared && *env_shared ? env_shared
+                                 : (fs::path(PLSLAM_SOURCE_DIR) / ".." / "shared").lexically_normal().string();
+  Args args("bench",
+            "Benchmark: every TUM sequence of <shared>/data/tum and synthetic scenes, N threaded runs each, "
+            "one Markdown table (docs/BENCHMARK.md).");
+  args.option("shared", "the shared/ folder with data/tum/ ($PLSLAM_SHARED_DIR, else <source>/../shared)",
+              default_shared)
+      .option("calib-dir", "folder with tum_freiburg{1,2,3}.xml", std::string(PLSLAM_SOURCE_DIR) + "/calib")
+      .option("out", "output folder: results.md, results.json, <sequence>/run<k>/, synthetic_<scene>/",
+              "maps/bench")
+      .option("runs", "runs per sequence (the table gives the median with min and max)", "3")
+      .option("synthetic-frames", "frames of each synthetic scene [default: the scene's own, 300; loop 450]")
+      .option("scenes", "synthetic scenes, comma-separated: static, dynamic, loop, crowded; or none", "static")
+      .option("sequences", "only these rows, comma-separated (TUM folder names, synthetic_<scene>)")
+      .option("config", "YAML run options (as plslam run --config)")
+      .flag("no-lines", "points only: no line features")
+      .flag("sequential", "deterministic single-thread order instead of the threaded mode")
+      .option("log-level", "debug, info, warn, error or off", "warn")
+      .epilog(
+          "TUM folders (those with rgb.txt) take their camera from the name: fr1/freiburg1 -> tum_freiburg1.xml,\n"
+          "fr2 -> tum_freiburg2.xml, fr3 -> tum_freiburg3.xml; other names are skipped with a warning.\n"
+          "Synthetic scenes are rendered once into <out>/synthetic_<scene> and reused while scene.txt matches.\n"
+          "Measure a Release build; the machine's load shows in the times.\n\n"
+          "example: plslam bench --runs 3 --scenes static,dynamic --out maps/bench");
+  if (!args.parse(argc, argv)) return 0;
+  setLogLevel(parseLogLevel(args.str("log-level")));
+  const auto bench_t0 = std::chrono::steady_clock::now();
+
+  BenchSettings settings;
+  settings.out = args.str("out");
+  settings.runs = args.integer("runs", 1, 1000);
+  OptionTable table;
+  loadRunConfig(args.has("config") ? args.str("config") : std::string(), &settings.options, &table);
+  settings.options.sequential = args.has("sequential");
+  if (args.has("no-lines")) settings.options.use_lines = false;
+  settings.config_yaml = table.toYaml("plslam bench: effective configuration");
+
+  std::vector<synth::SceneKind> scenes;
+  const std::string scene_list = args.str("scenes");
+  if (scene_list != "none")
+    for (const std::string& name : splitList(scene_list)) {
+      const synth::SceneKind kind = synth::parseSceneKind(name);
+      if (std::find(scenes.begin(), scenes.end(), kind) == scenes.end()) scenes.push_back(kind);
+    }
+  const int synthetic_frames = args.has("synthetic-frames") ? args.integer("synthetic-frames", 2, 1000000) : 0;
+
+  if (std::string(PLSLAM_BUILD_TYPE) != "Release")
+    std::fprintf(stderr, "[bench] warning: this is a '%s' build, not Release: times are not representative\n",
+                 PLSLAM_BUILD_TYPE);
+
+  // The candidate rows, in table order: TUM folders by name, then the synthetic scenes.
+  std::vector<std::string> notes;  // skips and warnings, printed under the table
+  auto note = [&](const std::string& text) {
+    std::fprintf(stderr, "[bench] %s\n", text.c_str());
+    notes.push_back(text);
+  };
+  std::vector<SequenceSpec> specs;
+  const std::string shared = args.str("shared");
+  const fs::path tum_root = fs::path(shared) / "data" / "tum";
+  std::error_code ec;
+  if (!fs::is_directory(tum_root, ec)) {
+    note("TUM sequences skipped: " + tum_root.string() +
+         " not found (give --shared DIR or set PLSLAM_SHARED_DIR); the synthetic scenes still run");
+  } else {
+    std::vector<fs::path> folders;
+    for (const auto& entry : fs::directory_iterator(tum_root, ec))
+      if (entry.is_directory() && fs::exists(entry.path() / "rgb.txt")) folders.push_back(entry.path());
+    std::sort(folders.begin(), folders.end());
+    if (folders.empty()) note("no TUM sequence (folder with rgb.txt) under " + tum_root.string());
+    for (const fs::path& folder : folders) {
+      SequenceSpec s;
+      s.name = folder.filename().string();
+      s.kind = "tum";
+      s.dir = folder.string();
+      s.camera_file = tumCameraFor(s.name, args.str("calib-dir"));
+      if (s.camera_file.empty()) {
+        note(s.name + " skipped: no camera for it (the folder name must say fr1/fr2/fr3 or freiburg1/2/3)");
+        continue;
+      }
+      specs.push_back(s);
+    }
+  }
+  for (const synth::SceneKind kind : scenes) {
+    SequenceSpec s;
+    s.name = std::string("synthetic_") + synth::sceneKindName(kind);
+    s.kind = "synthetic";
+    s.dir = settings.out + "/" + s.name;
+    s.camera_file = s.dir + "/camera.xml";
+    s.scene = kind;
+    specs.push_back(s);
+  }
+  if (args.has("sequences")) {
+    const std::vector<std::string> wanted = splitList(args.str("sequences"));
+    std::vector<SequenceSpec> kept;
+    for (const SequenceSpec& s : specs)
+      if (std::find(wanted.begin(), wanted.end(), s.name) != wanted.end()) kept.push_back(s);
+    for (const std::string& w : wanted)
+      if (std::none_of(specs.begin(), specs.end(), [&](const SequenceSpec& s) { return s.name == w; })) {
+        std::string available;
+        for (const SequenceSpec& s : specs) available += (available.empty() ? "" : ", ") + s.name;
+        note("--sequences: no sequence named '" + w + "' (available: " + (available.empty() ? "none" : available) +
+             "; synthetic ones need --scenes)");
+      }
+    specs = kept;
+  }
+  if (specs.empty()) throw ConfigError("plslam bench: no sequence to run (see the lines above)");
+
+  fs::create_directories(settings.out, ec);
+  if (!fs::is_directory(settings.out)) throw IoError(settings.out + ": cannot create the output folder");
+
+  std::vector<SequenceResult> results;
+  bool interrupted = false, failed = false;
+  for (const SequenceSpec& spec : specs) {
+    if (interrupted) break;
+    SequenceResult result;
+    result.spec = spec;
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+      if (spec.kind == "synthetic") {
+        synth::SceneOptions scene_options;
+        scene_options.frames = synthetic_frames > 0 ? synthetic_frames : synth::defaultFrameCount(spec.scene);
+        result.render_s = prepareSynthetic(synth::makeScene(spec.scene, scene_options), spec.dir, spec.name);
+      }
+      const auto runs_t0 = std::chrono::steady_clock::now();
+      runSequence(settings, &result, &interrupted);
+      result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - runs_t0).count();
+    } catch (const Error& e) {
+      result.error = e.what();
+      result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      failed = true;
+      note(spec.name + " failed: " + result.error);
+    }
+    result.peak_rss_mb = peakRssMb();
+    results.push_back(std::move(result));
+  }
+
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - bench_t0).count();
+  const double peak_mb = peakRssMb();
+  const std::string table_md = markdownTable(results, settings.runs, settings.options.use_lines);
+  std::ostringstream under;
+  under << "\n" << (settings.options.sequential ? "Sequential" : "Threaded") << " mode, " << settings.runs
+        << (settings.runs == 1 ? " run" : " runs") << " per sequence: median (min-max) over the runs; RPE over 1 s "
+        << "windows; tracked = frames with a pose / frames given; tracking ms = medians over the runs of each run's "
+           "median / 95th percentile. Build: "
+        << (std::string(PLSLAM_BUILD_TYPE).empty() ? "unknown" : PLSLAM_BUILD_TYPE) << ".\n";
+  under << "Peak resident memory (whole process): " << format("%.0f", peak_mb) << " MB. Wall time per sequence (all runs";
+  under << "): ";
+  for (size_t i = 0; i < results.size(); ++i)
+    under << (i ? ", " : "") << results[i].spec.name << " " << format("%.1f", results[i].wall_s) << " s";
+  under << "; total " << format("%.1f", wall_s) << " s.\n";
+  for (const std::string& n : notes) under << "- " << n << "\n";
+  if (interrupted) under << "- interrupted by Ctrl-C: the table holds what was done\n";
+
+  std::cout << table_md << under.str();
+  std::cout.flush();
+  writeFileAtomically(settings.out + "/results.md", "# plslam bench\n\n" + table_md + under.str());
+  writeFileAtomically(settings.out + "/results.json",
+                      resultsJson(results, notes, settings, shared, peak_mb, wall_s, interrupted));
+  std::fprintf(stderr, "[bench] wrote %s/results.md and results.json\n", settings.out.c_str());
+  return interrupted ? 130 : failed ? 1 : 0;
+}
+
+}  // namespace
+
+Command makeBenchCommand() {
+  return {"bench", "run every TUM sequence and synthetic scene N times; one Markdown table of ATE, RPE, speed",
+          runBench};
+}
+
+}  // namespace plslam::cli

@@ -1,0 +1,137 @@
+#include "run_session.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "core/error.h"
+#include "frontend/tracker.h"
+
+namespace plslam::cli {
+
+namespace {
+std::atomic<bool> g_interrupted{false};
+extern "C" void onSigint(int) { g_interrupted = true; }
+}  // namespace
+
+std::string readTextFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path + ": cannot open configuration file");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+void loadRunConfig(const std::string& config_path, SystemOptions* options, OptionTable* table) {
+  bindOptions(table, options);
+  if (!config_path.empty()) table->apply(parseYamlSubset(readTextFile(config_path), config_path), config_path);
+}
+
+std::string jsonQuote(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '\t': out += "\\t"; break;
+      case '\r': out += "\\r"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          char buf[8];
+          std::snprintf(buf, sizeof(buf), "\\u%04x", c);
+          out += buf;
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+SigintGuard::SigintGuard() {
+  g_interrupted = false;
+  previous_ = std::signal(SIGINT, onSigint);
+}
+SigintGuard::~SigintGuard() { std::signal(SIGINT, previous_ == SIG_ERR ? SIG_DFL : previous_); }
+bool SigintGuard::interrupted() { return g_interrupted; }
+
+FeedResult feedFrames(System* slam, TumDataset* dataset, const std::function<void(const FeedProgress&)>& progress,
+                      int period_ms) {
+  FeedResult result;
+  const auto t0 = std::chrono::steady_clock::now();
+  auto last_report = t0;
+  size_t reported = 0;
+  bool any_report = false;
+  auto report = [&](std::chrono::steady_clock::time_point now) {
+    last_report = now;
+    if (!progress || (any_report && reported == result.fed)) return;
+    reported = result.fed;
+    any_report = true;
+    FeedProgress p;
+    p.done = result.fed;
+    p.total = dataset->size();
+    p.tracked = result.tracked;
+    p.keyframes = slam->map().keyframes().size();
+    p.seconds = std::chrono::duration<double>(now - t0).count();
+    progress(p);
+  };
+  RgbdFrame frame;
+  while (!g_interrupted && dataset->next(&frame)) {
+    const TrackingResult r = slam->feed(frame);
+    ++result.fed;
+    result.tracked += isTracked(r.status);
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_report > std::chrono::milliseconds(period_ms)) report(now);
+  }
+  const auto end = std::chrono::steady_clock::now();
+  report(end);
+  result.seconds = std::chrono::duration<double>(end - t0).count();
+  result.interrupted = g_interrupted;
+  return result;
+}
+
+std::string RunEvaluation::jsonMembers() const {
+  if (!ok) return "";
+  std::ostringstream os;
+  os.precision(6);
+  os << "\"ate_rmse_m\": " << result.ate.stats.rmse << ", \"rpe_trans_rmse_m\": " << result.rpe.trans.rmse
+     << ", \"rpe_rot_rmse_deg\": " << result.rpe.rot_deg.rmse;
+  return os.str();
+}
+
+std::string RunEvaluation::text() const {
+  if (!attempted) return "";
+  if (!ok) return "ATE not computed: " + error;
+  char buf[160];
+  std::snprintf(buf, sizeof(buf), "ATE RMSE %.4f m over %d poses; RPE %.4f m/s, %.3f deg/s", result.ate.stats.rmse,
+                result.ate.stats.count, result.rpe.trans.rmse, result.rpe.rot_deg.rmse);
+  return buf;
+}
+
+RunEvaluation evaluateRun(const TumDataset& dataset, const Trajectory& estimate) {
+  RunEvaluation ev;
+  if (!dataset.hasGroundtruth() || estimate.size() < 3) return ev;
+  ev.attempted = true;
+  try {
+    ev.result = evaluate(dataset.groundtruth(), estimate);
+    ev.ok = true;
+  } catch (const Error& e) {
+    ev.error = e.what();
+  }
+  return ev;
+}
+
+std::string runStatsExtra(const TumDataset& dataset, const RunEvaluation& evaluation) {
+  std::string extra =
+      "\"dataset\": " + jsonQuote(dataset.dir()) + ", \"skipped_frames\": " + std::to_string(dataset.skippedTotal());
+  const std::string ev = evaluation.jsonMembers();
+  if (!ev.empty()) extra += ", " + ev;
+  return extra;
+}
+
+}  // namespace plslam::cli

@@ -1,0 +1,82 @@
+// Pieces shared by `plslam run` and `plslam bench`: the run configuration, feeding a
+// recorded folder to a System (progress callback, Ctrl-C), and the evaluation of the
+// resulting trajectory against the folder's ground truth.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <string>
+
+#include "core/option_table.h"
+#include "core/trajectory.h"
+#include "eval/trajectory_eval.h"
+#include "io/dataset.h"
+#include "system/system.h"
+
+namespace plslam::cli {
+
+/// The whole content of a text file; IoError naming it when it cannot be read.
+std::string readTextFile(const std::string& path);
+
+/// Binds `options` into `table` and applies the YAML file `config_path` (none when empty).
+void loadRunConfig(const std::string& config_path, SystemOptions* options, OptionTable* table);
+
+/// `text` as a JSON string literal (quotes included, escapes applied).
+std::string jsonQuote(const std::string& text);
+
+/// While an instance lives, Ctrl-C sets interrupted() instead of ending the process; the
+/// previous handler is restored on destruction. One instance at a time.
+class SigintGuard {
+ public:
+  SigintGuard();
+  ~SigintGuard();
+  SigintGuard(const SigintGuard&) = delete;
+  SigintGuard& operator=(const SigintGuard&) = delete;
+  /// Ctrl-C was pressed since the last guard was created.
+  static bool interrupted();
+
+ private:
+  void (*previous_)(int) = nullptr;
+};
+
+struct FeedProgress {
+  size_t done = 0;       ///< frames fed so far
+  size_t total = 0;      ///< frames in the dataset
+  int tracked = 0;       ///< frames tracked so far
+  size_t keyframes = 0;  ///< keyframes in the map now
+  double seconds = 0;    ///< since the first frame was read
+};
+
+struct FeedResult {
+  size_t fed = 0;
+  int tracked = 0;
+  double seconds = 0;        ///< wall time of the feeding loop
+  bool interrupted = false;  ///< stopped by Ctrl-C (SigintGuard)
+};
+
+/// Feeds every loadable frame of `dataset` (from its current position) to the started
+/// `slam`; stops early on Ctrl-C while a SigintGuard lives. `progress` (may be empty) is
+/// called at most every `period_ms` and once after the last frame.
+FeedResult feedFrames(System* slam, TumDataset* dataset, const std::function<void(const FeedProgress&)>& progress,
+                      int period_ms = 500);
+
+/// The comparison of a run's trajectory with the folder's ground truth.
+struct RunEvaluation {
+  bool attempted = false;  ///< the folder has ground truth and the estimate at least 3 poses
+  bool ok = false;         ///< evaluated (result is valid)
+  EvalResult result;
+  std::string error;       ///< why an attempted evaluation failed
+
+  /// JSON members (no braces) for stats.json: ate_rmse_m, rpe_trans_rmse_m, rpe_rot_rmse_deg;
+  /// empty unless ok.
+  std::string jsonMembers() const;
+  /// One line for people: the figures, or why they are missing; empty when not attempted.
+  std::string text() const;
+};
+/// Evaluates `estimate` against dataset.groundtruth() (TUM benchmark definitions).
+RunEvaluation evaluateRun(const TumDataset& dataset, const Trajectory& estimate);
+
+/// The extra stats.json members of a run: dataset folder, skipped frames, evaluation.
+std::string runStatsExtra(const TumDataset& dataset, const RunEvaluation& evaluation);
+
+}  // namespace plslam::cli
