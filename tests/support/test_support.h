@@ -30,4 +30,16 @@ std::string scratchDir(const std::string& tag);
 
 namespace plslam::test {
 bool pathExists(const std::string& path);
-}
+
+/// The outcome of running a shell command.
+struct CommandResult {
+  int status = -1;     ///< exit code; -1 when it did not exit normally
+  std::string output;  ///< stdout and stderr together
+};
+/// Runs `command` through the shell, capturing stdout and stderr.
+CommandResult runCommand(const std::string& command);
+/// Runs the built `plslam` with `arguments`.
+CommandResult runPlslam(const std::string& arguments);
+/// The whole content of a file ("" when it cannot be read).
+std::string readFile(const std::string& path);
+}  // namespace plslam::test

@@ -1,0 +1,94 @@
+// Runs the built `plslam run` as a user would: outputs, configuration handling, Ctrl-C.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <thread>
+
+#include "support/test_support.h"
+
+using namespace plslam;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A short synthetic sequence written once per test (40 frames render in seconds).
+std::string syntheticFolder(const std::string& scratch, int frames) {
+  const std::string dir = scratch + "/data";
+  const auto r = test::runPlslam("synth --scene static --frames " + std::to_string(frames) + " --out " + dir);
+  EXPECT_EQ(r.status, 0) << r.output;
+  return dir;
+}
+
+std::string runArgs(const std::string& data, const std::string& out) {
+  return "run --dataset " + data + " --calib " + data + "/camera.xml --out " + out;
+}
+
+}  // namespace
+
+TEST(RunCli, WritesEveryOutputAndTheAte) {
+  const std::string scratch = test::scratchDir("runcli");
+  const std::string data = syntheticFolder(scratch, 30);
+  const auto r = test::runPlslam(runArgs(data, scratch + "/out") + " --sequential --quiet");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("ATE RMSE"), std::string::npos) << r.output;
+  for (const char* f : {"trajectory.txt", "keyframes.txt", "sparse_map.ply", "stats.json", "config.yaml"})
+    EXPECT_TRUE(fs::exists(scratch + "/out/" + f)) << f;
+  const std::string stats = test::readFile(scratch + "/out/stats.json");
+  EXPECT_NE(stats.find("\"frames\": 30"), std::string::npos) << stats;
+  EXPECT_NE(stats.find("\"ate_rmse_m\""), std::string::npos) << stats;
+  // The effective configuration reproduces the run when given back.
+  const auto again = test::runPlslam(runArgs(data, scratch + "/out2") + " --quiet --config " + scratch + "/out/config.yaml");
+  EXPECT_EQ(again.status, 0) << again.output;
+  EXPECT_EQ(test::readFile(scratch + "/out/trajectory.txt"), test::readFile(scratch + "/out2/trajectory.txt"));
+}
+
+TEST(RunCli, BadConfigurationIsRefusedNamingTheKey) {
+  const std::string scratch = test::scratchDir("runcli");
+  const std::string cfg = scratch + "/bad.yaml";
+  FILE* f = std::fopen(cfg.c_str(), "w");
+  std::fputs("tracker:\n  min_inlierz: 5\n", f);
+  std::fclose(f);
+  auto r = test::runPlslam("run --dataset x --calib y --out z --config " + cfg + " --print-config");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("tracker.min_inlierz"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(cfg), std::string::npos) << r.output;
+  r = test::runPlslam("run --dataset /nonexistent --calib " + test::sourceDir() + "/calib/tum_freiburg1.xml --out " + scratch + "/o");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("/nonexistent"), std::string::npos) << r.output;
+  r = test::runPlslam("run --dataset x --calib y");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find("--out"), std::string::npos) << r.output;
+}
+
+TEST(RunCli, CtrlCStopsAndStillWritesWhatItHas) {
+  const std::string scratch = test::scratchDir("runcli");
+  const std::string data = syntheticFolder(scratch, 120);
+  const std::string out = scratch + "/out";
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const std::string exe = test::binaryDir() + "/plslam";
+    const std::string calib = data + "/camera.xml";
+    execl(exe.c_str(), exe.c_str(), "run", "--dataset", data.c_str(), "--calib", calib.c_str(), "--out", out.c_str(),
+          "--quiet", "--sequential", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Interrupt once tracking is under way (well before 120 frames are done).
+  std::this_thread::sleep_for(std::chrono::seconds(3));
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  const std::string traj = test::readFile(out + "/trajectory.txt");
+  ASSERT_FALSE(traj.empty()) << "no trajectory written after Ctrl-C";
+  int lines = 0;
+  for (char c : traj) lines += c == '\n';
+  EXPECT_GT(lines, 2);
+  EXPECT_LT(lines, 120 + 2) << "the run should have been cut short";
+  EXPECT_TRUE(fs::exists(out + "/stats.json"));
+}
