@@ -175,7 +175,9 @@ std::vector<int> previewFrames(const Scene& scene) {
   std::vector<int> cover(n);
   for (int i = 0; i < n; ++i) cover[i] = cv::countNonZero(render(probe, i).instance_ids);
   for (int k = 0; k < 3; ++k) {
-    const int b = k * n / 3, e = std::max(b + 1, (k + 1) * n / 3);
+    // The middle 80% of each third, so that the three frames are apart.
+    const int b0 = k * n / 3, e0 = std::max(b0 + 1, (k + 1) * n / 3), margin = (e0 - b0) / 10;
+    const int b = b0 + margin, e = e0 - margin;
     frames[k] = static_cast<int>(std::max_element(cover.begin() + b, cover.begin() + e) - cover.begin());
   }
   return frames;

@@ -37,6 +37,7 @@ struct Hit {
   double s = std::numeric_limits<double>::infinity();  // = depth z, since d_c has z = 1
   int box = -1;
   int face = -1;
+  double d[3] = {0, 0, 0};  // the ray direction in the hit box's frame
 };
 
 inline void boxDir(const Prepared& p, double xn, double yn, double d[3]) {
@@ -92,6 +93,7 @@ class FrameRenderer {
         hit.s = s;
         hit.box = tile_boxes_[k];
         hit.face = face;
+        std::copy(d, d + 3, hit.d);
       }
     }
     // The room (box 0) encloses everything: only needed when nothing else was hit.
@@ -102,16 +104,16 @@ class FrameRenderer {
         hit.s = s;
         hit.box = 0;
         hit.face = face;
+        std::copy(d, d + 3, hit.d);
       }
     }
     return hit;
   }
 
-  Rgb shade(const Hit& hit, double xn, double yn) const {
+  Rgb shade(const Hit& hit) const {
     if (hit.box < 0) return {};
     const Prepared& p = prepared_[hit.box];
-    double d[3];
-    boxDir(p, xn, yn, d);
+    const double* d = hit.d;
     const int a = hit.face / 2, b = a == 0 ? 1 : 0, c = a == 2 ? 1 : 2;
     const double qb = p.o[b] + hit.s * d[b], qc = p.o[c] + hit.s * d[c];
     const Box& box = *p.box;
@@ -127,10 +129,8 @@ class FrameRenderer {
   }
 
   /// |cos| of the angle between the ray and the surface normal.
-  double incidenceCos(const Hit& hit, double xn, double yn) const {
-    const Prepared& p = prepared_[hit.box];
-    double d[3];
-    boxDir(p, xn, yn, d);
+  static double incidenceCos(const Hit& hit) {
+    const double* d = hit.d;
     return std::abs(d[hit.face / 2]) / std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
   }
 
@@ -255,10 +255,17 @@ RenderedFrame renderView(const Scene& scene, const SE3& T_w_c, TimeNs t_ns, uint
   const int W = cam.width, H = cam.height;
   const FrameRenderer fr(scene, T_w_c, t_ns);
 
-  std::vector<double> z(W * H);
-  std::vector<int> key(W * H);
-  std::vector<Rgb> col(W * H);
-  std::vector<float> cosi(W * H);
+  // Per-thread scratch reused from frame to frame (every element is written below).
+  thread_local std::vector<double> z;
+  thread_local std::vector<int> key;
+  thread_local std::vector<Rgb> col;
+  thread_local std::vector<float> cosi;
+  thread_local std::vector<uint8_t> edge;
+  const size_t npix = static_cast<size_t>(W) * H;
+  z.resize(npix);
+  key.resize(npix);
+  col.resize(npix);
+  cosi.resize(npix);
   cv::Mat ids(H, W, CV_16UC1);
   for (int y = 0; y < H; ++y) {
     const double yn = (y - cam.cy) / cam.fy;
@@ -268,8 +275,8 @@ RenderedFrame renderView(const Scene& scene, const SE3& T_w_c, TimeNs t_ns, uint
       const int i = y * W + x;
       z[i] = hit.box < 0 ? std::numeric_limits<double>::quiet_NaN() : hit.s;
       key[i] = hit.box * 6 + hit.face;
-      col[i] = fr.shade(hit, xn, yn);
-      cosi[i] = hit.box < 0 || !opt.noise.enabled ? 0.f : static_cast<float>(fr.incidenceCos(hit, xn, yn));
+      col[i] = fr.shade(hit);
+      cosi[i] = hit.box < 0 || !opt.noise.enabled ? 0.f : static_cast<float>(FrameRenderer::incidenceCos(hit));
       ids.at<uint16_t>(y, x) = static_cast<uint16_t>(fr.instanceOf(hit));
     }
   }
@@ -277,7 +284,7 @@ RenderedFrame renderView(const Scene& scene, const SE3& T_w_c, TimeNs t_ns, uint
   // Anti-aliasing: pixels whose centre differs from a neighbour's (another face, or a
   // texture edge) get the average of aa_samples sub-pixel samples.
   if (opt.aa_samples > 1) {
-    std::vector<uint8_t> edge(W * H, 0);
+    edge.assign(npix, 0);
     auto differs = [&](int i, int j) {
       if (key[i] != key[j]) return true;
       return std::abs(col[i].r - col[j].r) + std::abs(col[i].g - col[j].g) + std::abs(col[i].b - col[j].b) > 0.04f;
@@ -303,7 +310,7 @@ RenderedFrame renderView(const Scene& scene, const SE3& T_w_c, TimeNs t_ns, uint
           if (k == first && uniform && hi.r - lo.r + hi.g - lo.g + hi.b - lo.b < 0.01f) break;
           const double xn = (x + pattern[k].first - cam.cx) / cam.fx, yn = (y + pattern[k].second - cam.cy) / cam.fy;
           const Hit hit = fr.trace(xn, yn, fr.tileOf(x, y));
-          const Rgb c = fr.shade(hit, xn, yn);
+          const Rgb c = fr.shade(hit);
           const int kk = hit.box * 6 + hit.face;
           if (key0 == -2) key0 = kk;
           uniform &= kk == key0;

@@ -9,8 +9,10 @@
 // Scene kinds (the layout of furniture is the same in all of them):
 //   static   hand-held camera looking at the shelf / table / cabinet corner, no moving objects
 //   dynamic  the same camera path, two persons walking back and forth across the view
-//   crowded  a slower camera; two persons walking in file close to the camera (they cover
-//            more than half of the image while they pass) and a third one farther away
+//            (one about 1 to 2 m in front of the camera, one farther off)
+//   crowded  a slower camera; three persons walking in file 0.8 to 1 m in front of the
+//            camera (more than half of the image is theirs for about 1 s each time they
+//            pass, every 11 s from t = 1.5 s) and a fourth one farther away
 //   loop     no moving objects; the camera goes once round an ellipse about the room centre
 //            looking outward at the walls, and its last pose equals its first
 // The seed changes the textures and the noise only; geometry and paths are fixed per kind.

@@ -24,7 +24,7 @@ int runSynth(int argc, char** argv) {
       .option("width", "image width (the focal length scales with it)", "640")
       .option("height", "image height", "480")
       .option("depth-offset-ms", "depth stamps = colour stamps + this many milliseconds", "0")
-      .option("threads", "frames rendered in parallel (the output does not depend on it)", "1")
+      .option("threads", "frames rendered in parallel (the output does not depend on it)", "2")
       .option("preview", "also write a contact sheet PNG (3 frames: colour, depth, masks)")
       .epilog(
           "At least one of --out and --preview is needed. The same options and seed give\n"
