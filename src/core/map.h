@@ -52,6 +52,7 @@ struct KeyFrame {
   FrameFeatures features;
   std::vector<Id> point_ids;  ///< per keypoint: the map point it observes, or kNoId
   std::vector<Id> line_ids;   ///< per line: the map line it observes, or kNoId
+  cv::Mat dynamic_mask;       ///< CV_8U, 0 = pixels of moving objects (empty: no dynamic filtering)
 };
 
 struct MapPoint {

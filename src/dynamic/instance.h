@@ -18,6 +18,7 @@ struct Instance {
   float score = 1.0f;            ///< detector confidence (1 for replayed masks)
   cv::Rect box;                  ///< bounding box, image pixels
   bool potentially_dynamic = false;  ///< its class may move (the configurable class prior)
+  int source_id = 0;             ///< the object's id in the source when it has one that lasts across frames (replay: its mask value); 0 otherwise
 };
 
 /// The instances of one image and a label image.

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -86,6 +87,12 @@ class Tracker {
   /// and its id returned in the result; making its new landmarks is the mapper's job.
   TrackingResult track(TimeNs t_ns, const FrameFeatures& features);
 
+  /// The motion-model prediction of the next frame's motion, T_cur_prev (none when lost
+  /// or without two tracked frames yet).
+  std::optional<SE3> predictedMotion() const {
+    if (!have_velocity_ || lost_) return std::nullopt;
+    return velocity_.inverse();
+  }
   int lostEvents() const { return lost_events_; }
   int relocalisations() const { return relocalisations_; }
   const TrackerOptions& options() const { return options_; }

@@ -42,8 +42,13 @@ std::string statsToJson(const RunStats& s, const std::string& extra) {
      << ",\n  \"features_ms\": " << summaryJson(s.features_ms) << ",\n  \"local_ba_ms\": " << summaryJson(s.ba_ms)
      << ",\n  \"line_reconstruction_rate\": {\"fitting\": " << s.line_rate_fitting
      << ", \"endpoints\": " << s.line_rate_endpoints << ", \"keyframes\": " << s.line_rate_keyframes << "}"
+     << ",\n  \"dynamic\": {\"segmenter\": \"" << s.segmenter << "\", \"points_rejected_per_frame\": "
+     << summaryJson(s.dynamic_points_rejected) << ", \"segmentation_ms\": " << summaryJson(s.segmentation_ms)
+     << ", \"segmentations\": " << s.segmentation_ms.size() << ", \"fresh_mask_fraction\": "
+     << (s.frames ? static_cast<double>(s.fresh_segmentations) / s.frames : 0.0) << "}"
      << ",\n  \"modules\": {\"lines\": " << (s.use_lines ? "true" : "false")
-     << ", \"dynamic\": false, \"loop_closure\": false, \"sequential\": " << (s.sequential ? "true" : "false") << "}";
+     << ", \"dynamic\": " << (s.use_dynamic ? "true" : "false")
+     << ", \"loop_closure\": false, \"sequential\": " << (s.sequential ? "true" : "false") << "}";
   if (!extra.empty()) os << ",\n  " << extra;
   os << "\n}\n";
   return os.str();

@@ -23,9 +23,13 @@ struct System::Pipeline {
     cv::Mat depth_m;
   };
   Pipeline(Map* map, const PinholeCamera& camera, const SystemOptions& o)
-      : tracker(map, camera, o.tracker), mapper(map, camera, o.mapper), queue(o.mapping_queue, QueuePolicy::kBlock) {}
+      : tracker(map, camera, o.tracker),
+        mapper(map, camera, o.mapper),
+        dynamic(camera, o.dynamic, o.dynamic.enabled ? makeSegmenter(o.segmenter) : nullptr, !o.sequential),
+        queue(o.mapping_queue, QueuePolicy::kBlock) {}
   Tracker tracker;
   LocalMapper mapper;
+  DynamicFilter dynamic;
   BoundedQueue<KeyframeJob> queue;
   std::thread mapping_thread;
   bool started = false, finished = false;
@@ -57,8 +61,13 @@ TrackingResult System::feed(const RgbdFrame& frame, const cv::Mat& mask) {
   const auto t0 = std::chrono::steady_clock::now();
   FrameRecord rec;
   rec.t_ns = frame.t_ns;
-  const FrameFeatures f = extractFeatures(frame, mask, camera_, options_.features);
+  FrameFeatures f = extractFeatures(frame, mask, camera_, options_.features);
   rec.features_ms = msSince(t0);
+  const DynamicFrameResult dyn = pipeline_->dynamic.process(frame, &f, pipeline_->tracker.predictedMotion());
+  rec.dynamic_points_rejected = dyn.points_rejected;
+  rec.dynamic_lines_rejected = dyn.lines_rejected;
+  rec.segmentation_ms = dyn.segmentation_ms;
+  rec.fresh_segmentation = dyn.fresh_segmentation;
   const TrackingResult r = pipeline_->tracker.track(frame.t_ns, f);
   rec.tracking_ms = msSince(t0);
   rec.status = r.status;
@@ -68,6 +77,7 @@ TrackingResult System::feed(const RgbdFrame& frame, const cv::Mat& mask) {
   rec.matched_lines = r.matched_lines;
   if (isTracked(r.status)) {
     std::lock_guard<std::mutex> lock(map_.mutex());
+    if (r.new_keyframe) map_.keyframe(r.keyframe_id)->dynamic_mask = dyn.mask;
     rec.reference_keyframe = r.reference_keyframe;
     rec.T_ref_c = map_.keyframe(r.reference_keyframe)->T_w_c.inverse() * r.T_w_c;
   }
@@ -111,6 +121,9 @@ RunStats System::stats() const {
     s.tracked += isTracked(r.status);
     s.tracking_ms.push_back(r.tracking_ms);
     s.features_ms.push_back(r.features_ms);
+    s.dynamic_points_rejected.push_back(r.dynamic_points_rejected);
+    if (r.segmentation_ms >= 0) s.segmentation_ms.push_back(r.segmentation_ms);
+    s.fresh_segmentations += r.fresh_segmentation;
   }
   s.lost_events = pipeline_->tracker.lostEvents();
   s.relocalisations = pipeline_->tracker.relocalisations();
@@ -127,6 +140,8 @@ RunStats System::stats() const {
   s.ba_ms = m.ba_ms;
   s.use_lines = options_.use_lines;
   s.sequential = options_.sequential;
+  s.use_dynamic = options_.dynamic.enabled;
+  s.segmenter = options_.dynamic.enabled ? segmenterKindName(options_.segmenter.kind) : "off";
   return s;
 }
 

@@ -23,6 +23,8 @@
 #include "core/map.h"
 #include "core/option_table.h"
 #include "core/trajectory.h"
+#include "dynamic/segmenter.h"
+#include "frontend/dynamic_filter.h"
 #include "frontend/feature_extraction.h"
 #include "frontend/tracker.h"
 #include "mapping/local_mapper.h"
@@ -36,6 +38,8 @@ struct SystemOptions {
   FeatureOptions features;      ///< ORB and line extraction
   TrackerOptions tracker;       ///< tracking
   LocalMapperOptions mapper;    ///< local mapping
+  DynamicFilterOptions dynamic; ///< rejection of moving objects (dynamic.enabled = false: none)
+  SegmenterOptions segmenter;   ///< instance segmentation backend (kind none: geometry only)
 };
 
 /// Binds every field of `options` that a configuration file may set.
@@ -50,6 +54,9 @@ struct FrameRecord {
   double tracking_ms = 0;   ///< from the frame's arrival to its pose (features included)
   double features_ms = 0;   ///< feature extraction alone
   int points = 0, lines = 0, matched_points = 0, matched_lines = 0;
+  int dynamic_points_rejected = 0, dynamic_lines_rejected = 0;
+  double segmentation_ms = -1;   ///< a segmentation that finished for this frame (-1: none)
+  bool fresh_segmentation = false;
 };
 
 struct RunStats {
@@ -58,7 +65,10 @@ struct RunStats {
   double line_rate_fitting = 0, line_rate_endpoints = 0;
   int line_rate_keyframes = 0;
   std::vector<double> tracking_ms, features_ms, ba_ms;
-  bool use_lines = true, sequential = false;
+  std::vector<double> dynamic_points_rejected, segmentation_ms;
+  int fresh_segmentations = 0;
+  bool use_lines = true, sequential = false, use_dynamic = false;
+  std::string segmenter = "none";
 };
 
 class System {

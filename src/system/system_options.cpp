@@ -34,6 +34,16 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
   t->bind("tracker.use_depth", &tr.optimizer.model.use_depth, "depth residuals in pose optimisation");
   t->bind("tracker.depth_sigma_coeff", &tr.optimizer.model.depth_sigma_coeff, "depth sigma = coeff * z^2 in pose optimisation (1/m)");
 
+  DynamicFilterOptions& d = o->dynamic;
+  t->bind("dynamic.enabled", &d.enabled, "reject features on moving objects (geometry, Delaunay graph, instance masks)");
+  t->bind("dynamic.segment_every", &d.segment_every, "segment every this many frames");
+  t->bind("dynamic.match_radius_px", &d.match_radius_px, "search radius for adjacent-frame keypoint matches (px)");
+  t->bind("dynamic.moving_fraction", &d.mask.moving_fraction, "an instance moves when this fraction of its checked features move");
+  t->bind("dynamic.min_checked_features", &d.mask.min_checked_features, "fewer checked features: the class prior decides");
+  t->bind("dynamic.dilate_px", &d.mask.dilate_px, "dynamic areas grow by this many pixels");
+  t->bind("dynamic.yolo_confidence", &o->segmenter.yolo.confidence, "YOLOv8-seg minimum class score");
+  t->bind("dynamic.yolo_nms_iou", &o->segmenter.yolo.nms_iou, "YOLOv8-seg class-aware NMS overlap");
+
   LocalMapperOptions& m = o->mapper;
   t->bind("mapper.local_ba", &m.local_ba, "run the local bundle adjustment");
   t->bind("mapper.ba_keyframes", &m.ba_keyframes, "keyframes optimised together in local BA");

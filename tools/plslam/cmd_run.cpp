@@ -6,6 +6,7 @@
 
 #include "camera/camera_file.h"
 #include "commands.h"
+#include "core/error.h"
 #include "core/log.h"
 #include "io/dataset.h"
 #include "run_session.h"
@@ -25,6 +26,11 @@ int runRun(int argc, char** argv) {
       .option("max-frames", "process only the first N frames (0 = all)", "0")
       .flag("sequential", "deterministic single-thread order (identical output across runs)")
       .flag("no-lines", "points only: no line features")
+      .option("segmenter", "instance masks: none, replay (the folder's masks/, as plslam synth writes), or a YOLOv8-seg .onnx file",
+              "none")
+      .option("classes", "class names file, one a line, in the model's order (default: the COCO names)")
+      .flag("allow-missing-model", "if the model cannot be used, warn and go on with the geometric checks only")
+      .flag("no-dynamic", "no rejection of moving objects at all")
       .flag("print-config", "print the effective configuration and exit")
       .option("log-level", "debug, info, warn, error or off", "warn")
       .flag("quiet", "no progress line")
@@ -41,6 +47,16 @@ int runRun(int argc, char** argv) {
   loadRunConfig(args.has("config") ? args.str("config") : std::string(), &options, &table);
   if (args.has("sequential")) options.sequential = true;
   if (args.has("no-lines")) options.use_lines = false;
+  if (args.has("no-dynamic")) options.dynamic.enabled = false;
+  const std::string segmenter = args.str("segmenter");
+  if (segmenter == "none" || segmenter == "replay") {
+    options.segmenter.kind = parseSegmenterKind(segmenter);
+  } else {
+    options.segmenter.kind = SegmenterKind::kYolo;
+    options.segmenter.yolo.model_path = segmenter;
+  }
+  options.segmenter.classes_file = args.str("classes");
+  options.segmenter.allow_missing_model = args.has("allow-missing-model");
   if (args.has("print-config")) {
     std::cout << table.toYaml("plslam run: effective configuration");
     return 0;
@@ -50,6 +66,13 @@ int runRun(int argc, char** argv) {
   DatasetOptions dopt;
   dopt.max_frames = args.integer("max-frames", 0, 100000000);
   TumDataset dataset = TumDataset::open(args.str("dataset"), camera, dopt);
+  if (options.segmenter.kind == SegmenterKind::kReplay) {
+    if (dataset.instanceLabels().empty() && dataset.listReport().masks_listed == 0)
+      throw ConfigError("plslam run: --segmenter replay needs a folder with masks.txt (plslam synth writes one): " +
+                        dataset.dir());
+    for (const InstanceLabel& l : dataset.instanceLabels())
+      options.segmenter.replay_labels.push_back({l.instance_id, l.class_id, l.class_name});
+  }
   const std::string out = args.str("out");
 
   System slam(camera, options);

@@ -1,0 +1,150 @@
+#include "dynamic/delaunay_motion.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <opencv2/imgproc.hpp>
+#include <unordered_set>
+
+namespace plslam {
+
+namespace {
+
+struct UnionFind {
+  std::vector<int> parent;
+  explicit UnionFind(int n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void unite(int a, int b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);  // smallest index as root: deterministic
+  }
+};
+
+int64_t edgeKey(int a, int b) { return (static_cast<int64_t>(std::min(a, b)) << 32) | static_cast<uint32_t>(std::max(a, b)); }
+
+}  // namespace
+
+const char* delaunayStatusName(DelaunayStatus status) {
+  switch (status) {
+    case DelaunayStatus::kOk: return "ok";
+    case DelaunayStatus::kTooFewPoints: return "too_few_points";
+    case DelaunayStatus::kNoReference: return "no_reference";
+  }
+  return "unknown";
+}
+
+int DelaunayMotionResult::brokenCount() const {
+  return static_cast<int>(std::count_if(edges.begin(), edges.end(), [](const DelaunayEdge& e) { return e.broken; }));
+}
+
+int DelaunayMotionResult::movingCount() const { return static_cast<int>(std::count(moving.begin(), moving.end(), 1)); }
+
+DelaunayMotionResult analyseDelaunayMotion(const std::vector<MotionCorrespondence>& corr, const PinholeCamera& cam,
+                                           const DelaunayMotionOptions& o, const std::optional<SE3>& reference_motion) {
+  const int n_all = static_cast<int>(corr.size());
+  DelaunayMotionResult res;
+  res.in_graph.assign(n_all, 0);
+  res.moving.assign(n_all, 0);
+  res.broken_fraction.assign(n_all, std::numeric_limits<float>::quiet_NaN());
+
+  // 1. Vertices: depth in both frames, current pixel inside the image, one per pixel position.
+  std::map<std::pair<float, float>, int> vertex_of;  // current pixel -> correspondence
+  std::vector<int> nodes;
+  for (int i = 0; i < n_all; ++i) {
+    const auto& c = corr[i];
+    if (!c.hasDepthPrev() || !c.hasDepthCur() || !c.uv_cur.allFinite()) continue;
+    const cv::Point2f pt(static_cast<float>(c.uv_cur.x()), static_cast<float>(c.uv_cur.y()));
+    if (pt.x < 0 || pt.y < 0 || pt.x >= cam.width || pt.y >= cam.height) continue;
+    if (!vertex_of.emplace(std::make_pair(pt.x, pt.y), i).second) continue;
+    nodes.push_back(i);
+  }
+  if (nodes.size() < 3) return res;
+  cv::Subdiv2D subdiv(cv::Rect(0, 0, cam.width, cam.height));
+  for (int i : nodes) {
+    res.in_graph[i] = 1;
+    subdiv.insert(cv::Point2f(static_cast<float>(corr[i].uv_cur.x()), static_cast<float>(corr[i].uv_cur.y())));
+  }
+  auto lookup = [&](float x, float y) {
+    const auto it = vertex_of.find({x, y});
+    return it == vertex_of.end() ? -1 : it->second;
+  };
+
+  // 2. The reference motion: given, or estimated over the graph's features.
+  if (reference_motion) {
+    res.reference = reference_motion;
+    res.reference_given = true;
+  } else {
+    std::vector<MotionCorrespondence> subset;
+    for (int i : nodes) subset.push_back(corr[i]);
+    const MotionCheckResult check = checkMotion(subset, cam, o.motion);
+    if (check.ok()) res.reference = check.T_cur_prev;
+  }
+  res.status = res.reference ? DelaunayStatus::kOk : DelaunayStatus::kNoReference;
+
+  // 3. Edges: the length test.
+  const PointNoiseOptions& noise = o.motion.noise;
+  std::vector<Eigen::Matrix3d> cov_p(n_all), cov_c(n_all);
+  for (int i : nodes) {
+    cov_p[i] = pointCovariance(cam, corr[i].uv_prev, corr[i].p_prev.z(), noise, corr[i].pixel_sigma_scale);
+    cov_c[i] = pointCovariance(cam, corr[i].uv_cur, corr[i].p_cur.z(), noise, corr[i].pixel_sigma_scale);
+  }
+  std::vector<cv::Vec4f> edge_list;
+  subdiv.getEdgeList(edge_list);
+  std::unordered_set<int64_t> seen;
+  std::vector<int> incident(n_all, 0), broken_incident(n_all, 0);
+  for (const auto& e : edge_list) {
+    const int a = lookup(e[0], e[1]), b = lookup(e[2], e[3]);  // -1: a virtual outer vertex
+    if (a < 0 || b < 0 || a == b || !seen.insert(edgeKey(a, b)).second) continue;
+    DelaunayEdge d;
+    d.a = std::min(a, b);
+    d.b = std::max(a, b);
+    const Eigen::Vector3d vp = corr[d.a].p_prev - corr[d.b].p_prev, vc = corr[d.a].p_cur - corr[d.b].p_cur;
+    d.length_prev = vp.norm();
+    d.length_cur = vc.norm();
+    double var = 0;
+    if (d.length_prev > 0) var += vp.dot((cov_p[d.a] + cov_p[d.b]) * vp) / (d.length_prev * d.length_prev);
+    if (d.length_cur > 0) var += vc.dot((cov_c[d.a] + cov_c[d.b]) * vc) / (d.length_cur * d.length_cur);
+    d.sigma = std::sqrt(var);
+    const double change = d.length_cur - d.length_prev;
+    d.broken = change * change > o.chi2_length * var;
+    res.edges.push_back(d);
+    for (int v : {d.a, d.b}) {
+      ++incident[v];
+      broken_incident[v] += d.broken;
+    }
+  }
+  for (int i : nodes)
+    if (incident[i] > 0) res.broken_fraction[i] = static_cast<float>(broken_incident[i]) / incident[i];
+
+  // 4. Moving features.
+  for (int i : nodes) {
+    if (res.reference) res.moving[i] = rigidChi2(corr[i], *res.reference, cam, noise) >= o.motion.chi2_3d;
+    else res.moving[i] = incident[i] > 0 && res.broken_fraction[i] > o.broken_fraction;
+  }
+
+  // 5. Regions: moving features joined by kept edges.
+  UnionFind region(n_all);
+  for (const auto& e : res.edges)
+    if (!e.broken && res.moving[e.a] && res.moving[e.b]) region.unite(e.a, e.b);
+  std::map<int, std::vector<int>> members_of;
+  for (int i : nodes)
+    if (res.moving[i]) members_of[region.find(i)].push_back(i);
+  for (auto& [root, members] : members_of) {
+    if (static_cast<int>(members.size()) < o.min_region_features) continue;
+    MovingRegion r;
+    std::vector<cv::Point2f> pts;
+    for (int i : members) pts.emplace_back(static_cast<float>(corr[i].uv_cur.x()), static_cast<float>(corr[i].uv_cur.y()));
+    cv::convexHull(pts, r.hull);
+    r.features = std::move(members);
+    res.regions.push_back(std::move(r));
+  }
+  return res;
+}
+
+}  // namespace plslam

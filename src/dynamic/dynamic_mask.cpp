@@ -1,0 +1,156 @@
+#include "dynamic/dynamic_mask.h"
+
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "core/error.h"
+#include "core/log.h"
+
+namespace plslam {
+
+const char* instanceDecisionReasonName(InstanceDecisionReason reason) {
+  switch (reason) {
+    case InstanceDecisionReason::kMovingByGeometry: return "moving_by_geometry";
+    case InstanceDecisionReason::kStillByGeometry: return "still_by_geometry";
+    case InstanceDecisionReason::kClassPrior: return "class_prior";
+    case InstanceDecisionReason::kStaticClass: return "static_class";
+  }
+  return "unknown";
+}
+
+const char* regionDecisionReasonName(RegionDecisionReason reason) {
+  switch (reason) {
+    case RegionDecisionReason::kAccepted: return "accepted";
+    case RegionDecisionReason::kInsideInstance: return "inside_instance";
+    case RegionDecisionReason::kContradictedByGeometry: return "contradicted_by_geometry";
+  }
+  return "unknown";
+}
+
+DynamicMaskResult fuseDynamicMask(const DynamicEvidence& ev, cv::Size size, const DynamicMaskOptions& o) {
+  static const std::vector<MotionCorrespondence> kNoCorrespondences;
+  const auto& corr = ev.correspondences ? *ev.correspondences : kNoCorrespondences;
+  const size_t n = corr.size();
+  const MotionCheckResult* motion = ev.motion && ev.motion->ok() ? ev.motion : nullptr;
+  const DelaunayMotionResult* graph = o.use_delaunay_evidence ? ev.delaunay : nullptr;
+  const Segmentation* seg = ev.segmentation && !ev.segmentation->empty() ? ev.segmentation : nullptr;
+  if (size.width <= 0 || size.height <= 0) throw DataError(str("dynamic mask: bad image size ", size.width, "x", size.height));
+  if (motion && (motion->moving.size() != n || motion->evidence.size() != n))
+    throw DataError(str("dynamic mask: the motion check has ", motion->moving.size(), " flags for ", n, " correspondences"));
+  if (ev.delaunay && (ev.delaunay->moving.size() != n || ev.delaunay->in_graph.size() != n))
+    throw DataError(str("dynamic mask: the Delaunay result has ", ev.delaunay->moving.size(), " flags for ", n,
+                        " correspondences"));
+  if (seg && (seg->instance_ids.type() != CV_16UC1 || seg->instance_ids.size() != size))
+    throw DataError(str("dynamic mask: the instance label image is ", seg->instance_ids.cols, "x", seg->instance_ids.rows,
+                        " type ", seg->instance_ids.type(), ", expected CV_16UC1 ", size.width, "x", size.height));
+
+  DynamicMaskResult res;
+  res.feature_dynamic.assign(n, 0);
+  res.stats.features = static_cast<int>(n);
+
+  // Per-feature evidence: the geometric check first, else the Delaunay graph.
+  std::vector<int8_t> moving(n, -1);  // -1 unknown, 0 still, 1 moving
+  for (size_t i = 0; i < n; ++i) {
+    if (motion && motion->evidence[i] != MotionEvidence::kNone) moving[i] = motion->moving[i];
+    else if (graph && graph->in_graph[i]) moving[i] = graph->moving[i];
+    if (moving[i] >= 0) ++res.stats.features_checked;
+  }
+  std::vector<int> label(n, 0);  // instance id under the current pixel
+  if (seg) {
+    for (size_t i = 0; i < n; ++i) {
+      const auto& uv = corr[i].uv_cur;
+      if (!uv.allFinite()) continue;
+      const int x = static_cast<int>(std::lround(uv.x())), y = static_cast<int>(std::lround(uv.y()));
+      if (x >= 0 && y >= 0 && x < size.width && y < size.height) label[i] = seg->instance_ids.at<uint16_t>(y, x);
+    }
+  }
+
+  res.mask = cv::Mat(size, CV_8UC1, cv::Scalar(255));
+  cv::Mat dynamic_area(size, CV_8UC1, cv::Scalar(0));
+  // Instances.
+  if (seg) {
+    res.stats.instances = static_cast<int>(seg->instances.size());
+    for (const Instance& inst : seg->instances) {
+      InstanceDecision d;
+      d.instance_id = inst.id;
+      d.class_id = inst.class_id;
+      d.class_name = inst.class_name;
+      for (size_t i = 0; i < n; ++i) {
+        if (label[i] != inst.id) continue;
+        ++d.features;
+        if (moving[i] < 0) continue;
+        ++d.checked;
+        d.moving += moving[i];
+      }
+      if (d.checked >= o.min_checked_features) {
+        const bool moves = d.moving >= o.min_moving_features && d.moving >= o.moving_fraction * d.checked;
+        if (!moves) d.reason = InstanceDecisionReason::kStillByGeometry;
+        else if (inst.potentially_dynamic || o.static_classes_can_move) d.reason = InstanceDecisionReason::kMovingByGeometry;
+        else d.reason = InstanceDecisionReason::kStaticClass;
+        d.dynamic = d.reason == InstanceDecisionReason::kMovingByGeometry;
+      } else {
+        d.dynamic = inst.potentially_dynamic;
+        d.reason = d.dynamic ? InstanceDecisionReason::kClassPrior : InstanceDecisionReason::kStaticClass;
+      }
+      if (d.dynamic) {
+        ++res.stats.instances_dynamic;
+        dynamic_area.setTo(255, seg->instance_ids == inst.id);
+        for (size_t i = 0; i < n; ++i)
+          if (label[i] == inst.id) res.feature_dynamic[i] = 1;
+      }
+      res.instances.push_back(std::move(d));
+    }
+  }
+
+  // Delaunay regions outside the instances.
+  if (ev.delaunay) {
+    const auto& regions = ev.delaunay->regions;
+    for (size_t r = 0; r < regions.size(); ++r) {
+      RegionDecision d;
+      d.region = static_cast<int>(r);
+      int on_instances = 0;
+      for (int i : regions[r].features) {
+        if (i < 0 || static_cast<size_t>(i) >= n) throw DataError(str("dynamic mask: region feature ", i, " out of range"));
+        on_instances += label[i] != 0;
+        if (motion && motion->evidence[i] != MotionEvidence::kNone) {
+          ++d.checked;
+          d.moving += motion->moving[i];
+        }
+      }
+      if (on_instances >= o.region_inside_fraction * regions[r].features.size()) {
+        d.reason = RegionDecisionReason::kInsideInstance;
+      } else if (d.checked >= o.region_min_checked && d.moving < o.region_min_moving_fraction * d.checked) {
+        d.reason = RegionDecisionReason::kContradictedByGeometry;
+      } else {
+        d.dynamic = true;
+        d.reason = RegionDecisionReason::kAccepted;
+        ++res.stats.regions_dynamic;
+        std::vector<cv::Point> hull;
+        for (const auto& p : regions[r].hull) hull.emplace_back(static_cast<int>(std::lround(p.x)), static_cast<int>(std::lround(p.y)));
+        if (!hull.empty()) cv::fillConvexPoly(dynamic_area, hull, cv::Scalar(255));
+        for (int i : regions[r].features) res.feature_dynamic[i] = 1;
+      }
+      res.regions.push_back(d);
+    }
+  }
+
+  // Single moving features.
+  for (size_t i = 0; i < n; ++i) {
+    if (moving[i] != 1) continue;
+    res.feature_dynamic[i] = 1;
+    if (o.feature_radius_px > 0 && corr[i].uv_cur.allFinite())
+      cv::circle(dynamic_area, cv::Point(static_cast<int>(std::lround(corr[i].uv_cur.x())), static_cast<int>(std::lround(corr[i].uv_cur.y()))),
+                 o.feature_radius_px, cv::Scalar(255), cv::FILLED);
+  }
+
+  if (o.dilate_px > 0) {
+    const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * o.dilate_px + 1, 2 * o.dilate_px + 1));
+    cv::dilate(dynamic_area, dynamic_area, kernel);
+  }
+  res.mask.setTo(0, dynamic_area);
+  res.stats.dynamic_pixels = cv::countNonZero(dynamic_area);
+  for (uint8_t f : res.feature_dynamic) res.stats.features_dynamic += f;
+  return res;
+}
+
+}  // namespace plslam

@@ -1,0 +1,108 @@
+// The fused dynamic mask of the current frame: instance masks (with their class prior), the
+// geometric check (motion_check.h) and the Delaunay regions (delaunay_motion.h) decide which
+// pixels and features are dynamic.
+//
+// Per instance, the evidence is the features whose current pixel lies on its mask:
+//   - enough of them checked (min_checked_features) and at least moving_fraction of those
+//     moving (and min_moving_features)          -> dynamic, kMovingByGeometry
+//   - enough checked, fewer moving              -> static,  kStillByGeometry (a seated person
+//                                                   is kept; its few moving features are still rejected one by one)
+//   - too few checked                           -> the class prior: kClassPrior (dynamic) for a
+//                                                   potentially dynamic class, kStaticClass otherwise
+// A feature's evidence is the geometric check when it has one, else the Delaunay graph's verdict.
+// Delaunay regions that lie mostly outside every instance are dynamic (objects of unknown
+// classes, or no segmenter) unless the geometric check finds their features still.
+//
+// Stateless and thread-safe.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "dynamic/delaunay_motion.h"
+#include "dynamic/instance.h"
+#include "dynamic/motion_check.h"
+
+namespace plslam {
+
+struct DynamicMaskOptions {
+  double moving_fraction = 0.3;        ///< an instance moves when at least this fraction of its checked features move
+  int min_moving_features = 2;         ///< ... and at least this many of them
+  int min_checked_features = 3;        ///< fewer checked features on an instance: its class prior decides
+  bool static_classes_can_move = true; ///< geometry may declare an instance of a static class (a pushed chair) dynamic
+  bool use_delaunay_evidence = true;   ///< features without a geometric check take the Delaunay graph's verdict
+  double region_inside_fraction = 0.5; ///< regions with at least this fraction of features on instances are left to the instances
+  int region_min_checked = 3;          ///< a region is contradicted only when this many of its features have a geometric check
+  double region_min_moving_fraction = 0.5;  ///< ... and fewer than this fraction of them move
+  int dilate_px = 5;                   ///< dynamic areas grow by this many pixels (mask borders, depth edges)
+  int feature_radius_px = 0;           ///< moving features outside dynamic areas also mask a disc of this radius (0: flag only)
+};
+
+enum class InstanceDecisionReason {
+  kMovingByGeometry,  ///< enough of its features disagree with the camera motion
+  kStillByGeometry,   ///< enough features checked, too few moving
+  kClassPrior,        ///< too few checked features; its class may move
+  kStaticClass,       ///< too few checked features (or moving but not allowed to); its class is static
+};
+const char* instanceDecisionReasonName(InstanceDecisionReason reason);
+
+struct InstanceDecision {
+  int instance_id = 0;        ///< Instance::id
+  int class_id = -1;          ///< Instance::class_id
+  std::string class_name;     ///< Instance::class_name
+  bool dynamic = false;       ///< its pixels are masked out
+  InstanceDecisionReason reason = InstanceDecisionReason::kClassPrior;
+  int features = 0;           ///< correspondences whose current pixel lies on the instance
+  int checked = 0;            ///< of those, with motion evidence
+  int moving = 0;             ///< of those, moving
+};
+
+enum class RegionDecisionReason {
+  kAccepted,                ///< dynamic: a moving region outside the instances
+  kInsideInstance,          ///< mostly on instances: their decisions rule
+  kContradictedByGeometry,  ///< the geometric check finds its features still
+};
+const char* regionDecisionReasonName(RegionDecisionReason reason);
+
+struct RegionDecision {
+  int region = -1;            ///< index into DelaunayMotionResult::regions
+  bool dynamic = false;       ///< its hull is masked out
+  RegionDecisionReason reason = RegionDecisionReason::kAccepted;
+  int checked = 0;            ///< features with a geometric check
+  int moving = 0;             ///< of those, moving
+};
+
+struct DynamicMaskStats {
+  int features = 0;           ///< correspondences given
+  int features_checked = 0;   ///< with motion evidence (geometric or Delaunay)
+  int features_dynamic = 0;   ///< rejected (moving, or on a dynamic instance / region)
+  int instances = 0;          ///< instances in the segmentation
+  int instances_dynamic = 0;  ///< masked out
+  int regions_dynamic = 0;    ///< Delaunay regions masked out
+  int dynamic_pixels = 0;     ///< zeros in the mask
+};
+
+struct DynamicMaskResult {
+  cv::Mat mask;                          ///< CV_8UC1, image size: 255 = static / usable, 0 = dynamic
+  std::vector<InstanceDecision> instances;  ///< one per Segmentation instance, same order
+  std::vector<RegionDecision> regions;   ///< one per Delaunay region, same order
+  std::vector<uint8_t> feature_dynamic;  ///< per correspondence: 1 = do not use
+  DynamicMaskStats stats;
+};
+
+/// The evidence of one frame; every part may be null (absent), the correspondences are the
+/// ones motion / delaunay were computed on. The segmentation must be of the current image.
+struct DynamicEvidence {
+  const std::vector<MotionCorrespondence>* correspondences = nullptr;
+  const MotionCheckResult* motion = nullptr;
+  const DelaunayMotionResult* delaunay = nullptr;
+  const Segmentation* segmentation = nullptr;
+};
+
+/// Fuses the evidence into the dynamic mask of an image of `image_size`. Throws DataError when
+/// the segmentation's label image or the per-correspondence vectors do not match.
+DynamicMaskResult fuseDynamicMask(const DynamicEvidence& evidence, cv::Size image_size,
+                                  const DynamicMaskOptions& options = {});
+
+}  // namespace plslam

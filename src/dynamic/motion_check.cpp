@@ -1,0 +1,361 @@
+#include "dynamic/motion_check.h"
+
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+
+namespace plslam {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+/// Projection Jacobian d(uv)/d(p) at camera-frame point q.
+Eigen::Matrix<double, 2, 3> projectionJacobian(const PinholeCamera& cam, const Eigen::Vector3d& q) {
+  const double iz = 1.0 / q.z();
+  Eigen::Matrix<double, 2, 3> J;
+  J << cam.fx * iz, 0, -cam.fx * q.x() * iz * iz, 0, cam.fy * iz, -cam.fy * q.y() * iz * iz;
+  return J;
+}
+
+double chi2Of(const Eigen::Vector3d& r, const Eigen::Matrix3d& cov) { return r.dot(cov.ldlt().solve(r)); }
+
+/// The depth correspondences with their covariances, precomputed once.
+struct DepthSet {
+  std::vector<int> index;  // into the correspondences
+  std::vector<Eigen::Vector3d> p, c;
+  std::vector<Eigen::Matrix3d> cov_p, cov_c;
+};
+
+double setChi2(const DepthSet& s, size_t k, const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
+  const Eigen::Vector3d r = R * s.p[k] + t - s.c[k];
+  return chi2Of(r, R * s.cov_p[k] * R.transpose() + s.cov_c[k]);
+}
+
+// MSAC: the cost of a motion is the sum of min(chi2, threshold). Plain inlier counting is not
+// enough: far points have large depth noise, so a motion that fits a moving object can also
+// keep most of the far background within its threshold and out-count the true motion.
+struct Score {
+  int inliers = 0;
+  double cost = kInf;
+  bool betterThan(const Score& o) const { return cost < o.cost || (cost == o.cost && inliers > o.inliers); }
+};
+
+Score scoreMotion(const DepthSet& s, const SE3& T, double thr) {
+  const Eigen::Matrix3d R = T.rotation();
+  Score sc;
+  sc.cost = 0;
+  for (size_t k = 0; k < s.p.size(); ++k) {
+    const double e = setChi2(s, k, R, T.translation());
+    if (e < thr) ++sc.inliers;
+    sc.cost += std::min(e, thr);
+  }
+  return sc;
+}
+
+/// Weighted rigid refit on the inliers of T (weights: inverse positional variance).
+std::optional<SE3> refitOnInliers(const DepthSet& s, const SE3& T, double thr) {
+  const Eigen::Matrix3d R = T.rotation();
+  std::vector<Eigen::Vector3d> a, b;
+  std::vector<double> w;
+  for (size_t k = 0; k < s.p.size(); ++k) {
+    if (setChi2(s, k, R, T.translation()) >= thr) continue;
+    a.push_back(s.p[k]);
+    b.push_back(s.c[k]);
+    w.push_back(1.0 / (s.cov_p[k] + s.cov_c[k]).trace());
+  }
+  return fitRigid(a, b, w);
+}
+
+/// Whether T moves the scene's points (RMS) within the tolerance of where the prior moves them
+/// (a distance on the scene, not at the camera centre: a rotation about a point 2 m away
+/// looks like a large translation at the origin).
+bool nearPrior(const DepthSet& s, const SE3& T, const SE3& prior, const MotionCheckOptions& o) {
+  const Eigen::Matrix3d dR = T.rotation() - prior.rotation();
+  const Eigen::Vector3d dt = T.translation() - prior.translation();
+  double sum = 0;
+  for (const auto& p : s.p) sum += (dR * p + dt).squaredNorm();
+  return sum <= o.prior_max_displacement_m * o.prior_max_displacement_m * s.p.size();
+}
+
+/// A minimal sample must be a proper triangle whose side lengths agree between the frames
+/// (cheap rejection of samples that mix a moving object and the background).
+enum class SampleCheck { kGood, kDegenerate, kNotRigid };
+
+SampleCheck checkSample(const DepthSet& s, const int k[3], const MotionCheckOptions& o) {
+  for (int a = 0; a < 3; ++a) {
+    const int i = k[a], j = k[(a + 1) % 3], m = k[(a + 2) % 3];
+    const Eigen::Vector3d e1 = s.p[j] - s.p[i], e2 = s.p[m] - s.p[i];
+    const double l1 = e1.norm(), l2 = e2.norm();
+    if (l1 < o.min_sample_side_m || l2 < o.min_sample_side_m) return SampleCheck::kDegenerate;
+    if (e1.cross(e2).norm() / (l1 * l2) < o.min_sample_sine) return SampleCheck::kDegenerate;
+  }
+  const double gate = std::sqrt(o.chi2_1d);
+  for (int a = 0; a < 3; ++a) {
+    const int i = k[a], j = k[(a + 1) % 3];
+    const double dl = std::abs((s.p[j] - s.p[i]).norm() - (s.c[j] - s.c[i]).norm());
+    const double var = (s.cov_p[i] + s.cov_p[j] + s.cov_c[i] + s.cov_c[j]).trace();
+    if (dl > gate * std::sqrt(var)) return SampleCheck::kNotRigid;
+  }
+  return SampleCheck::kGood;
+}
+
+}  // namespace
+
+Eigen::Matrix3d pointCovariance(const PinholeCamera& camera, const Eigen::Vector2d& uv, double z,
+                                const PointNoiseOptions& noise, double pixel_sigma_scale) {
+  Eigen::Matrix3d J;
+  J << z / camera.fx, 0, (uv.x() - camera.cx) / camera.fx, 0, z / camera.fy, (uv.y() - camera.cy) / camera.fy, 0, 0, 1;
+  const double sp = noise.pixel_sigma * pixel_sigma_scale;
+  const double sz = noise.depth_sigma_quadratic * z * z + noise.depth_sigma_constant;
+  const Eigen::Vector3d d(sp * sp, sp * sp, sz * sz);
+  return J * d.asDiagonal() * J.transpose();
+}
+
+const char* motionCheckStatusName(MotionCheckStatus status) {
+  switch (status) {
+    case MotionCheckStatus::kOk: return "ok";
+    case MotionCheckStatus::kTooFewCorrespondences: return "too_few_correspondences";
+    case MotionCheckStatus::kTooFewWithDepth: return "too_few_with_depth";
+    case MotionCheckStatus::kDegenerate: return "degenerate";
+    case MotionCheckStatus::kNoConsensus: return "no_consensus";
+  }
+  return "unknown";
+}
+
+const char* motionEvidenceName(MotionEvidence evidence) {
+  switch (evidence) {
+    case MotionEvidence::kNone: return "none";
+    case MotionEvidence::kRigid3d: return "rigid3d";
+    case MotionEvidence::kReprojection: return "reprojection";
+    case MotionEvidence::kEpipolar: return "epipolar";
+    case MotionEvidence::kRotation: return "rotation";
+  }
+  return "unknown";
+}
+
+int MotionCheckResult::checkedCount() const {
+  return static_cast<int>(std::count_if(evidence.begin(), evidence.end(), [](MotionEvidence e) { return e != MotionEvidence::kNone; }));
+}
+
+int MotionCheckResult::movingCount() const { return static_cast<int>(std::count(moving.begin(), moving.end(), 1)); }
+
+std::optional<SE3> fitRigid(const std::vector<Eigen::Vector3d>& src, const std::vector<Eigen::Vector3d>& dst,
+                            const std::vector<double>& weights) {
+  const size_t n = src.size();
+  if (n < 3 || dst.size() != n || (!weights.empty() && weights.size() != n)) return std::nullopt;
+  double wsum = 0;
+  Eigen::Vector3d cs = Eigen::Vector3d::Zero(), cd = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < n; ++i) {
+    const double w = weights.empty() ? 1.0 : weights[i];
+    wsum += w;
+    cs += w * src[i];
+    cd += w * dst[i];
+  }
+  if (!(wsum > 0)) return std::nullopt;
+  cs /= wsum;
+  cd /= wsum;
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  for (size_t i = 0; i < n; ++i) {
+    const double w = weights.empty() ? 1.0 : weights[i];
+    H += w * (src[i] - cs) * (dst[i] - cd).transpose();
+  }
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::Vector3d sv = svd.singularValues();
+  // Rank 2 is enough (three points, a plane); rank 1 (collinear) leaves a free rotation.
+  if (!(sv(0) > 1e-12) || sv(1) < 1e-6 * sv(0)) return std::nullopt;
+  const Eigen::Matrix3d U = svd.matrixU(), V = svd.matrixV();
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  if ((V * U.transpose()).determinant() < 0) D(2, 2) = -1;
+  const Eigen::Matrix3d R = V * D * U.transpose();
+  return SE3(R, cd - R * cs);
+}
+
+double rigidChi2(const MotionCorrespondence& c, const SE3& T_cur_prev, const PinholeCamera& camera,
+                 const PointNoiseOptions& noise) {
+  const Eigen::Matrix3d R = T_cur_prev.rotation();
+  const Eigen::Matrix3d cov = R * pointCovariance(camera, c.uv_prev, c.p_prev.z(), noise, c.pixel_sigma_scale) * R.transpose() +
+                              pointCovariance(camera, c.uv_cur, c.p_cur.z(), noise, c.pixel_sigma_scale);
+  return chi2Of(T_cur_prev * c.p_prev - c.p_cur, cov);
+}
+
+namespace {
+
+MotionCheckResult checkMotionOnce(const std::vector<MotionCorrespondence>& corr, const PinholeCamera& cam,
+                                  const MotionCheckOptions& o, const std::optional<SE3>& prior) {
+  const int n_all = static_cast<int>(corr.size());
+  MotionCheckResult res;
+  res.moving.assign(n_all, 0);
+  res.evidence.assign(n_all, MotionEvidence::kNone);
+  res.residual.assign(n_all, kNaN);
+  res.chi2.assign(n_all, kNaN);
+  res.prior_used = prior.has_value();
+
+  DepthSet s;
+  for (int i = 0; i < n_all; ++i) {
+    const auto& c = corr[i];
+    if (!c.hasDepthPrev() || !c.hasDepthCur() || !c.uv_prev.allFinite() || !c.uv_cur.allFinite()) continue;
+    s.index.push_back(i);
+    s.p.push_back(c.p_prev);
+    s.c.push_back(c.p_cur);
+    s.cov_p.push_back(pointCovariance(cam, c.uv_prev, c.p_prev.z(), o.noise, c.pixel_sigma_scale));
+    s.cov_c.push_back(pointCovariance(cam, c.uv_cur, c.p_cur.z(), o.noise, c.pixel_sigma_scale));
+  }
+  const int n = static_cast<int>(s.p.size());
+  res.with_depth = n;
+  if (n_all < o.min_correspondences) {
+    res.status = MotionCheckStatus::kTooFewCorrespondences;
+    return res;
+  }
+  if (n < std::max(3, o.min_with_depth)) {
+    res.status = MotionCheckStatus::kTooFewWithDepth;
+    return res;
+  }
+
+  // RANSAC over minimal 3-point rigid fits.
+  std::mt19937_64 rng(o.seed);
+  Score best;
+  std::optional<SE3> best_T;
+  int good_samples = 0;
+  const double log_fail = std::log(1.0 - std::clamp(o.confidence, 0.5, 1.0 - 1e-12));
+  int needed = o.max_iterations;
+  auto consider = [&](const SE3& T, bool is_prior) {
+    ++res.hypotheses;
+    Score sc = scoreMotion(s, T, o.chi2_3d);
+    if (!sc.betterThan(best)) return;
+    best = sc;
+    best_T = T;
+    res.prior_won = is_prior;
+    // Local optimisation: minimal samples of noisy far points give rough motions; refits on
+    // their inliers make a near-true hypothesis score as well as it deserves.
+    for (int lo = 0; lo < o.refine_iterations; ++lo) {
+      const auto refit = refitOnInliers(s, *best_T, o.chi2_3d);
+      if (!refit || (prior && !nearPrior(s, *refit, *prior, o))) break;
+      sc = scoreMotion(s, *refit, o.chi2_3d);
+      if (!sc.betterThan(best)) break;
+      best = sc;
+      best_T = refit;
+      res.prior_won = false;
+    }
+    const double w = static_cast<double>(best.inliers) / n;
+    const double p_fail = 1.0 - w * w * w;
+    needed = p_fail <= 0 ? o.min_iterations
+                         : std::max(o.min_iterations, static_cast<int>(std::ceil(log_fail / std::log(p_fail))));
+  };
+  if (prior) consider(*prior, true);
+  const int max_draws = 20 * std::max(1, o.max_iterations);
+  for (int draw = 0, iter = 0; draw < max_draws && iter < std::min(needed, o.max_iterations); ++draw) {
+    int k[3];
+    k[0] = static_cast<int>(rng() % n);
+    do k[1] = static_cast<int>(rng() % n); while (k[1] == k[0]);
+    do k[2] = static_cast<int>(rng() % n); while (k[2] == k[0] || k[2] == k[1]);
+    const SampleCheck check = checkSample(s, k, o);
+    if (check == SampleCheck::kDegenerate) continue;
+    ++good_samples;  // a proper triangle, rigid or not
+    if (check == SampleCheck::kNotRigid) continue;
+    const auto T = fitRigid({s.p[k[0]], s.p[k[1]], s.p[k[2]]}, {s.c[k[0]], s.c[k[1]], s.c[k[2]]});
+    ++iter;
+    if (!T) continue;
+    if (prior && !nearPrior(s, *T, *prior, o)) continue;
+    consider(*T, false);
+  }
+  if (!best_T) {
+    res.status = good_samples == 0 && !prior ? MotionCheckStatus::kDegenerate : MotionCheckStatus::kNoConsensus;
+    return res;
+  }
+
+  // The local optimisation has refitted the best hypothesis on its inliers already.
+  const SE3 T = *best_T;
+  const int count = best.inliers;
+  if (count >= 3 && !refitOnInliers(s, T, o.chi2_3d)) {
+    res.status = MotionCheckStatus::kDegenerate;  // the inliers are collinear
+    return res;
+  }
+  res.inliers = count;
+  if (count < std::max(3, o.min_inliers) || count < o.min_inlier_ratio * n) {
+    res.status = MotionCheckStatus::kNoConsensus;
+    return res;
+  }
+  res.status = MotionCheckStatus::kOk;
+  res.T_cur_prev = T;
+
+  // Check every correspondence against the camera motion.
+  const Eigen::Matrix3d R = T.rotation();
+  const Eigen::Vector3d t = T.translation();
+  const SE3 T_prev_cur = T.inverse();
+  Eigen::Matrix3d Kinv;
+  Kinv << 1 / cam.fx, 0, -cam.cx / cam.fx, 0, 1 / cam.fy, -cam.cy / cam.fy, 0, 0, 1;
+  const Eigen::Matrix3d F = Kinv.transpose() * hat(t) * R * Kinv;  // x_cur^T F x_prev = 0
+  const double f = std::max(cam.fx, cam.fy);
+  for (int k = 0; k < n; ++k) {
+    const int i = s.index[k];
+    res.evidence[i] = MotionEvidence::kRigid3d;
+    res.chi2[i] = setChi2(s, k, R, t);
+    res.residual[i] = (R * s.p[k] + t - s.c[k]).norm();
+    res.moving[i] = res.chi2[i] >= o.chi2_3d;
+  }
+  for (int i = 0; i < n_all; ++i) {
+    const auto& c = corr[i];
+    if (res.evidence[i] != MotionEvidence::kNone || !c.uv_prev.allFinite() || !c.uv_cur.allFinite()) continue;
+    const double sp = o.noise.pixel_sigma * c.pixel_sigma_scale;
+    if (c.hasDepthPrev() || c.hasDepthCur()) {
+      // Reprojection of the side with depth into the other image.
+      const bool from_prev = c.hasDepthPrev();
+      const Eigen::Vector3d q = from_prev ? T * c.p_prev : T_prev_cur * c.p_cur;
+      const Eigen::Vector2d uv_obs = from_prev ? c.uv_cur : c.uv_prev;
+      res.evidence[i] = MotionEvidence::kReprojection;
+      if (q.z() <= 1e-6) {  // lands behind the camera
+        res.residual[i] = res.chi2[i] = kInf;
+        res.moving[i] = 1;
+        continue;
+      }
+      const Eigen::Matrix3d Rq = from_prev ? R : Eigen::Matrix3d(R.transpose());
+      const Eigen::Matrix3d cov3 =
+          from_prev ? pointCovariance(cam, c.uv_prev, c.p_prev.z(), o.noise, c.pixel_sigma_scale)
+                    : pointCovariance(cam, c.uv_cur, c.p_cur.z(), o.noise, c.pixel_sigma_scale);
+      const auto J = projectionJacobian(cam, q);
+      const Eigen::Matrix2d cov = J * Rq * cov3 * Rq.transpose() * J.transpose() + sp * sp * Eigen::Matrix2d::Identity();
+      const Eigen::Vector2d e = uv_obs - cam.projectIdeal(q);
+      res.residual[i] = e.norm();
+      res.chi2[i] = e.dot(cov.ldlt().solve(e));
+      res.moving[i] = res.chi2[i] >= o.chi2_2d;
+    } else if (t.norm() >= o.min_epipolar_baseline_m) {
+      const Eigen::Vector3d line = F * Eigen::Vector3d(c.uv_prev.x(), c.uv_prev.y(), 1.0);
+      const double d = std::abs(line.dot(Eigen::Vector3d(c.uv_cur.x(), c.uv_cur.y(), 1.0))) / line.head<2>().norm();
+      res.evidence[i] = MotionEvidence::kEpipolar;
+      res.residual[i] = d;
+      res.chi2[i] = d * d / (2 * sp * sp);
+      res.moving[i] = res.chi2[i] >= o.chi2_1d;
+    } else {
+      // Hardly any translation: the rotation alone predicts the pixel, up to the parallax
+      // of the nearest plausible depth.
+      const Eigen::Vector3d ray = R * cam.unprojectIdeal(c.uv_prev, 1.0);
+      if (ray.z() <= 1e-6) continue;  // rotated out of view: no check
+      res.evidence[i] = MotionEvidence::kRotation;
+      const double e = (c.uv_cur - cam.projectIdeal(ray)).norm();
+      const double excess = std::max(0.0, e - f * t.norm() / o.min_scene_depth_m);
+      res.residual[i] = e;
+      res.chi2[i] = excess * excess / (2 * sp * sp);
+      res.moving[i] = res.chi2[i] >= o.chi2_2d;
+    }
+  }
+  return res;
+}
+
+}  // namespace
+
+MotionCheckResult checkMotion(const std::vector<MotionCorrespondence>& correspondences, const PinholeCamera& camera,
+                              const MotionCheckOptions& options, const std::optional<SE3>& prior) {
+  MotionCheckResult res = checkMotionOnce(correspondences, camera, options, prior);
+  if (prior && res.status == MotionCheckStatus::kNoConsensus) {
+    if (options.prior_fallback) res = checkMotionOnce(correspondences, camera, options, std::nullopt);
+    res.prior_rejected = true;
+  }
+  return res;
+}
+
+}  // namespace plslam

@@ -1,0 +1,138 @@
+// Geometric evidence of motion between two adjacent frames: the camera motion is estimated
+// robustly from feature correspondences with depth (RANSAC over minimal 3-point rigid fits,
+// then a weighted refit on the inliers), and every correspondence that disagrees with it is
+// flagged as moving.
+//
+// Residuals are tested against the sensor's noise, not a fixed distance: each 3D point gets
+// a covariance from its pixel noise (lateral, grows with z) and a Kinect-like depth noise
+// (along the ray, sigma_z = a z^2 + b), so a person walking across the view at 2 m
+// (3 cm/frame) stands out even though the depth noise alone is 1 cm there.
+//
+// Correspondences without depth on one side are checked by reprojection, on neither side by
+// their epipolar distance (or, when the camera hardly translates, by rotation transfer).
+//
+// Majority assumption: RANSAC keeps the rigid motion with the most inliers. When a moving
+// object has more depth features than the static background, its motion wins and the
+// background is flagged instead (the tracker then sees most of its features rejected; its own
+// pose estimate against the map does not depend on this). A motion prior (the tracker's
+// motion-model prediction) guards against that: with one, hypotheses that put the scene's
+// points farther from where the prior puts them than its tolerance (2 cm RMS: less than a
+// walking person moves in a frame) are discarded and the prior itself is scored as a hypothesis. When nothing near the prior finds
+// consensus (a wrong prediction), the check is redone without it (prior_rejected).
+//
+// Stateless and thread-safe.
+#pragma once
+
+#include <Eigen/Core>
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "camera/pinhole_camera.h"
+#include "core/se3.h"
+
+namespace plslam {
+
+/// One feature seen in the previous and the current frame.
+struct MotionCorrespondence {
+  Eigen::Vector2d uv_prev{0, 0};  ///< ideal (undistorted) pixel in the previous frame
+  Eigen::Vector2d uv_cur{0, 0};   ///< ideal pixel in the current frame
+  Eigen::Vector3d p_prev{NAN, NAN, NAN};  ///< point in the previous camera frame from depth; NaN: no depth
+  Eigen::Vector3d p_cur{NAN, NAN, NAN};   ///< point in the current camera frame from depth; NaN: no depth
+  /// Multiplies MotionCheckOptions::pixel_sigma for this feature (e.g. the ORB level's scale factor).
+  double pixel_sigma_scale = 1.0;
+
+  bool hasDepthPrev() const { return p_prev.allFinite() && p_prev.z() > 0; }
+  bool hasDepthCur() const { return p_cur.allFinite() && p_cur.z() > 0; }
+};
+
+/// Noise of a back-projected depth pixel (Kinect-like).
+struct PointNoiseOptions {
+  double pixel_sigma = 1.0;          ///< keypoint position noise, pixels (1 sigma)
+  double depth_sigma_quadratic = 0.0025;  ///< depth noise sigma_z = quadratic * z^2 + constant (1/m)
+  double depth_sigma_constant = 0.002;    ///< metres; also absorbs depth quantisation and sampling
+};
+
+/// Covariance (camera frame, m^2) of the point back-projected from ideal pixel `uv` at depth z.
+Eigen::Matrix3d pointCovariance(const PinholeCamera& camera, const Eigen::Vector2d& uv, double z,
+                                const PointNoiseOptions& noise, double pixel_sigma_scale = 1.0);
+
+struct MotionCheckOptions {
+  PointNoiseOptions noise;            ///< sensor noise model the residuals are normalised by
+  double chi2_3d = 16.27;             ///< 3D residual test, chi2 with 3 dof (16.27: 99.9%)
+  double chi2_2d = 13.82;             ///< reprojection test, chi2 with 2 dof (13.82: 99.9%)
+  double chi2_1d = 10.83;             ///< epipolar distance test, chi2 with 1 dof (10.83: 99.9%)
+  int min_correspondences = 6;        ///< fewer correspondences in all: kTooFewCorrespondences
+  int min_with_depth = 6;             ///< fewer with depth in both frames: kTooFewWithDepth
+  int min_inliers = 6;                ///< fewer inliers of the best motion: kNoConsensus
+  double min_inlier_ratio = 0.2;      ///< inliers below this fraction of the depth correspondences: kNoConsensus
+  int max_iterations = 500;           ///< RANSAC hypotheses at most
+  int min_iterations = 30;            ///< RANSAC hypotheses at least (before the adaptive stop)
+  double confidence = 0.999;          ///< adaptive stop: probability of drawing one all-inlier sample
+  uint64_t seed = 42;                 ///< RANSAC random stream (deterministic results)
+  double min_sample_side_m = 0.02;    ///< minimal samples need all three sides at least this long
+  double min_sample_sine = 0.1;       ///< and a triangle this far from collinear (sine of its smallest angle)
+  int refine_iterations = 3;          ///< weighted refits on the inliers of each new best hypothesis (local optimisation)
+  double prior_max_displacement_m = 0.02;  ///< with a prior: hypotheses that move the depth points (RMS) farther than this from where the prior puts them are discarded
+  bool prior_fallback = true;         ///< with a prior and no consensus near it, retry without the prior
+  double min_epipolar_baseline_m = 0.01;  ///< below this translation, no-depth features use rotation transfer
+  double min_scene_depth_m = 0.4;     ///< nearest depth assumed for the parallax allowance of rotation transfer
+};
+
+enum class MotionCheckStatus {
+  kOk,                     ///< motion estimated, flags valid
+  kTooFewCorrespondences,  ///< fewer than min_correspondences in all
+  kTooFewWithDepth,        ///< fewer than min_with_depth with depth in both frames
+  kDegenerate,             ///< the depth points are (nearly) collinear or coincident: no rigid fit
+  kNoConsensus,            ///< no motion reached min_inliers / min_inlier_ratio (or none near the prior)
+};
+const char* motionCheckStatusName(MotionCheckStatus status);
+
+/// How a correspondence was checked.
+enum class MotionEvidence : uint8_t {
+  kNone,           ///< not checked (no motion, or bad input)
+  kRigid3d,        ///< depth in both frames: 3D residual
+  kReprojection,   ///< depth in one frame: reprojection into the other
+  kEpipolar,       ///< no depth: distance to the epipolar line
+  kRotation,       ///< no depth and hardly any translation: rotation transfer
+};
+const char* motionEvidenceName(MotionEvidence evidence);
+
+struct MotionCheckResult {
+  MotionCheckStatus status = MotionCheckStatus::kTooFewCorrespondences;
+  SE3 T_cur_prev;                      ///< camera motion (p_cur = T_cur_prev * p_prev); identity unless kOk
+  int with_depth = 0;                  ///< correspondences with depth in both frames
+  int inliers = 0;                     ///< of those, consistent with T_cur_prev
+  int hypotheses = 0;                  ///< RANSAC hypotheses scored
+  bool prior_used = false;             ///< a motion prior constrained the result
+  bool prior_won = false;              ///< the prior itself had the best support
+  bool prior_rejected = false;         ///< a prior was given but found no consensus (fallback result, or kNoConsensus)
+  std::vector<uint8_t> moving;         ///< per correspondence: 1 = disagrees with the camera motion
+  std::vector<MotionEvidence> evidence;  ///< per correspondence: how it was checked
+  std::vector<double> residual;        ///< per correspondence: metres (kRigid3d) or pixels; NaN unchecked
+  std::vector<double> chi2;            ///< per correspondence: normalised squared residual; NaN unchecked
+
+  bool ok() const { return status == MotionCheckStatus::kOk; }
+  /// Correspondences with a usable check / flagged as moving.
+  int checkedCount() const;
+  int movingCount() const;
+};
+
+/// Estimates T_cur_prev and flags the moving correspondences. `prior`: an expected T_cur_prev
+/// (e.g. the constant-velocity prediction) that constrains the hypotheses; see the file comment.
+MotionCheckResult checkMotion(const std::vector<MotionCorrespondence>& correspondences, const PinholeCamera& camera,
+                              const MotionCheckOptions& options = {}, const std::optional<SE3>& prior = std::nullopt);
+
+/// Least-squares rigid transform T with dst_i ~ T * src_i, each pair weighted (Horn/Umeyama
+/// without scale). Returns nullopt for fewer than 3 pairs or a degenerate (collinear) set.
+std::optional<SE3> fitRigid(const std::vector<Eigen::Vector3d>& src, const std::vector<Eigen::Vector3d>& dst,
+                            const std::vector<double>& weights = {});
+
+/// Squared Mahalanobis distance of the 3D residual T * p_prev - p_cur of a correspondence
+/// with depth in both frames (the test checkMotion applies).
+double rigidChi2(const MotionCorrespondence& c, const SE3& T_cur_prev, const PinholeCamera& camera,
+                 const PointNoiseOptions& noise);
+
+}  // namespace plslam

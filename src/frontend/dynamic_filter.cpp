@@ -1,0 +1,184 @@
+#include "frontend/dynamic_filter.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "core/log.h"
+#include "features/matching.h"
+
+namespace plslam {
+
+namespace {
+const Logger kLog("dynamic");
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+bool dynamicAt(const cv::Mat& mask, const Eigen::Vector2d& uv) {
+  const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
+  return u >= 0 && v >= 0 && u < mask.cols && v < mask.rows && mask.at<uint8_t>(v, u) == 0;
+}
+}  // namespace
+
+std::pair<int, int> removeDynamicFeatures(FrameFeatures* f, const cv::Mat& mask, const std::vector<uint8_t>& point_dynamic,
+                                          double line_fraction) {
+  std::vector<Keypoint> points;
+  cv::Mat point_desc(0, 32, CV_8U);
+  int removed_points = 0, removed_lines = 0;
+  for (size_t i = 0; i < f->points.size(); ++i) {
+    const bool flagged = i < point_dynamic.size() && point_dynamic[i];
+    if (flagged || (!mask.empty() && dynamicAt(mask, f->points[i].uv_raw))) {
+      ++removed_points;
+      continue;
+    }
+    points.push_back(f->points[i]);
+    point_desc.push_back(f->point_descriptors.row(static_cast<int>(i)));
+  }
+  std::vector<Segment2D> lines;
+  cv::Mat line_desc(0, 32, CV_8U);
+  for (size_t i = 0; i < f->lines.size(); ++i) {
+    const Segment2D& s = f->lines[i];
+    int on_dynamic = 0;
+    const int samples = 11;
+    for (int k = 0; k < samples && !mask.empty(); ++k)
+      on_dynamic += dynamicAt(mask, s.p_raw + (s.q_raw - s.p_raw) * (k / double(samples - 1)));
+    if (on_dynamic > line_fraction * samples) {
+      ++removed_lines;
+      continue;
+    }
+    lines.push_back(s);
+    line_desc.push_back(f->line_descriptors.row(static_cast<int>(i)));
+  }
+  f->points = std::move(points);
+  f->point_descriptors = point_desc;
+  f->lines = std::move(lines);
+  f->line_descriptors = line_desc;
+  return {removed_points, removed_lines};
+}
+
+DynamicFilter::DynamicFilter(PinholeCamera camera, DynamicFilterOptions options, std::unique_ptr<Segmenter> segmenter,
+                             bool asynchronous)
+    : camera_(std::move(camera)), options_(options), segmenter_(std::move(segmenter)), asynchronous_(asynchronous) {
+  if (segmenter_ && asynchronous_) worker_ = std::thread([this] { workerLoop(); });
+}
+
+DynamicFilter::~DynamicFilter() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  if (worker_.joinable()) worker_.join();
+}
+
+void DynamicFilter::workerLoop() {
+  for (;;) {
+    RgbdFrame frame;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      wake_.wait(lock, [&] { return stop_ || pending_.has_value(); });
+      if (stop_) return;
+      frame = std::move(*pending_);
+      pending_.reset();
+      busy_ = true;
+    }
+    Segmentation s;
+    try {
+      s = segmenter_->segment(frame);
+    } catch (const std::exception& e) {
+      kLog.warn(str("segmentation of t=", formatSecondsStamp(frame.t_ns), " failed: ", e.what()));
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    busy_ = false;
+    if (!s.empty()) finished_ = std::move(s);
+  }
+}
+
+Segmentation DynamicFilter::latestSegmentation(const RgbdFrame& frame, DynamicFrameResult* r) {
+  if (!segmenter_) return {};
+  const bool due = frame_count_ % std::max(1, options_.segment_every) == 0;
+  if (!asynchronous_) {
+    if (due) {
+      latest_ = segmenter_->segment(frame);
+      r->fresh_segmentation = true;
+      r->segmentation_ms = latest_.ms;
+    }
+    return latest_;
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (finished_) {
+    latest_ = std::move(*finished_);
+    finished_.reset();
+    r->segmentation_ms = latest_.ms;
+    r->fresh_segmentation = latest_.t_ns == frame.t_ns;
+  }
+  if (due && !busy_ && !pending_) {
+    pending_ = frame;  // the images are shared, not copied
+    wake_.notify_one();
+  }
+  return latest_;
+}
+
+DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures* f,
+                                          const std::optional<SE3>& prior_T_cur_prev) {
+  DynamicFrameResult r;
+  if (!options_.enabled) return r;
+  const Segmentation seg = latestSegmentation(frame, &r);
+  ++frame_count_;
+  const auto t0 = std::chrono::steady_clock::now();
+
+  // Adjacent-frame correspondences: each previous keypoint searched around its old position.
+  std::vector<MotionCorrespondence> corr;
+  std::vector<int> corr_keypoint;
+  if (have_previous_ && !f->points.empty() && !previous_.points.empty()) {
+    std::vector<PointPrediction> predictions;
+    for (const Keypoint& k : previous_.points) predictions.push_back({k.uv, -1});
+    std::vector<Eigen::Vector2d> uv;
+    for (const Keypoint& k : f->points) uv.push_back(k.uv);
+    PointProjectionOptions po;
+    po.radius_px = options_.match_radius_px;
+    po.max_distance = options_.match_max_distance;
+    po.octave_window = -1;
+    const PointGrid grid(uv, camera_.width, camera_.height);
+    for (const DescriptorMatch& m :
+         matchPointsByProjection(predictions, previous_.point_descriptors, grid, {}, f->point_descriptors, po)) {
+      const Keypoint& a = previous_.points[m.query];
+      const Keypoint& b = f->points[m.train];
+      MotionCorrespondence c;
+      c.uv_prev = a.uv;
+      c.uv_cur = b.uv;
+      if (std::isfinite(a.depth_m)) c.p_prev = camera_.unprojectIdeal(a.uv, a.depth_m);
+      if (std::isfinite(b.depth_m)) c.p_cur = camera_.unprojectIdeal(b.uv, b.depth_m);
+      c.pixel_sigma_scale = std::pow(1.2, b.octave);
+      corr.push_back(c);
+      corr_keypoint.push_back(m.train);
+    }
+  }
+  previous_ = *f;
+  have_previous_ = true;
+
+  const MotionCheckResult motion = checkMotion(corr, camera_, options_.motion, prior_T_cur_prev);
+  r.motion_status = motion.status;
+  const DelaunayMotionResult delaunay = analyseDelaunayMotion(
+      corr, camera_, options_.delaunay, motion.ok() ? std::optional<SE3>(motion.T_cur_prev) : std::nullopt);
+  DynamicEvidence evidence;
+  evidence.correspondences = &corr;
+  evidence.motion = &motion;
+  evidence.delaunay = &delaunay;
+  evidence.segmentation = seg.empty() ? nullptr : &seg;
+  const DynamicMaskResult fused = fuseDynamicMask(evidence, cv::Size(camera_.width, camera_.height), options_.mask);
+  r.mask = fused.mask;
+  r.instances = fused.stats.instances;
+  r.instances_dynamic = fused.stats.instances_dynamic;
+
+  std::vector<uint8_t> point_dynamic(f->points.size(), 0);
+  for (size_t i = 0; i < corr_keypoint.size(); ++i)
+    if (i < fused.feature_dynamic.size() && fused.feature_dynamic[i]) point_dynamic[corr_keypoint[i]] = 1;
+  std::tie(r.points_rejected, r.lines_rejected) =
+      removeDynamicFeatures(f, fused.mask, point_dynamic, options_.line_masked_fraction);
+  r.filter_ms = msSince(t0);
+  return r;
+}
+
+}  // namespace plslam

@@ -1,0 +1,96 @@
+// Keeps moving objects out of tracking and the map (PLY-SLAM): before a frame is
+// tracked, its keypoints are matched to the previous frame's, the matches are checked
+// against the camera's motion (3D residuals from depth) and in a Delaunay graph (edges
+// whose 3D length changes), and the evidence is fused with the latest instance masks of
+// the segmenter into a dynamic mask. Points and lines on the mask's dynamic pixels, and
+// points flagged as moving, are removed from the frame's features.
+//
+// Segmentation runs every `segment_every` frames: on its own thread in the threaded
+// pipeline (tracking uses the newest masks that are ready, however old), or inline in
+// sequential mode (deterministic).
+//
+// Thread safety: process() from one thread (the tracking thread).
+#pragma once
+
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+#include "camera/pinhole_camera.h"
+#include "core/frame.h"
+#include "core/map.h"
+#include "dynamic/delaunay_motion.h"
+#include "dynamic/dynamic_mask.h"
+#include "dynamic/motion_check.h"
+#include "dynamic/segmenter.h"
+
+namespace plslam {
+
+struct DynamicFilterOptions {
+  bool enabled = true;             ///< reject dynamic features at all
+  int segment_every = 3;           ///< segment every this many frames (1 = every frame)
+  double match_radius_px = 40.0;   ///< search radius for the previous frame's keypoints
+  int match_max_distance = 60;     ///< ORB Hamming distance accepted between adjacent frames
+  double line_masked_fraction = 0.3;  ///< lines with more than this fraction of samples on dynamic pixels are removed
+  MotionCheckOptions motion;       ///< geometric check between adjacent frames
+  DelaunayMotionOptions delaunay;  ///< Delaunay graph check
+  DynamicMaskOptions mask;         ///< fusion into the dynamic mask
+};
+
+/// What the filter did with one frame.
+struct DynamicFrameResult {
+  cv::Mat mask;               ///< CV_8U, 255 = static, 0 = dynamic (empty when the filter is off)
+  int points_rejected = 0;    ///< keypoints removed
+  int lines_rejected = 0;     ///< segments removed
+  bool fresh_segmentation = false;  ///< masks computed on this very frame
+  double segmentation_ms = -1;      ///< time of a segmentation finished for this frame (-1: none)
+  double filter_ms = 0;       ///< matching, checks and fusion
+  MotionCheckStatus motion_status = MotionCheckStatus::kTooFewCorrespondences;
+  int instances_dynamic = 0;  ///< instances judged moving
+  int instances = 0;          ///< instances in the segmentation used
+};
+
+class DynamicFilter {
+ public:
+  /// `segmenter` may be null (geometry only). `asynchronous`: segment on a worker thread.
+  DynamicFilter(PinholeCamera camera, DynamicFilterOptions options, std::unique_ptr<Segmenter> segmenter,
+                bool asynchronous);
+  ~DynamicFilter();
+  DynamicFilter(const DynamicFilter&) = delete;
+  DynamicFilter& operator=(const DynamicFilter&) = delete;
+
+  /// Filters `features` (extracted from `frame`) in place. `prior_T_cur_prev` is the
+  /// tracker's predicted motion since the previous frame, when it has one.
+  DynamicFrameResult process(const RgbdFrame& frame, FrameFeatures* features, const std::optional<SE3>& prior_T_cur_prev);
+
+ private:
+  Segmentation latestSegmentation(const RgbdFrame& frame, DynamicFrameResult* result);
+  void workerLoop();
+
+  PinholeCamera camera_;
+  DynamicFilterOptions options_;
+  std::unique_ptr<Segmenter> segmenter_;
+  bool asynchronous_;
+  FrameFeatures previous_;
+  bool have_previous_ = false;
+  int frame_count_ = 0;
+  Segmentation latest_;
+
+  // Worker: one pending frame at most (a newer one replaces it), one finished result.
+  std::thread worker_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::optional<RgbdFrame> pending_;
+  std::optional<Segmentation> finished_;
+  bool busy_ = false, stop_ = false;
+};
+
+/// Removes from `f` the keypoints on dynamic pixels of `mask` or flagged in `point_dynamic`
+/// (per keypoint, may be empty) and the segments with more than `line_fraction` of their
+/// length on dynamic pixels. Returns (points removed, lines removed).
+std::pair<int, int> removeDynamicFeatures(FrameFeatures* f, const cv::Mat& mask, const std::vector<uint8_t>& point_dynamic,
+                                          double line_fraction);
+
+}  // namespace plslam
