@@ -75,11 +75,13 @@ DynamicFilter::~DynamicFilter() {
 void DynamicFilter::workerLoop() {
   for (;;) {
     RgbdFrame frame;
+    int frame_number = -1;
     {
       std::unique_lock<std::mutex> lock(mutex_);
       wake_.wait(lock, [&] { return stop_ || pending_.has_value(); });
       if (stop_) return;
       frame = std::move(*pending_);
+      frame_number = pending_frame_;
       pending_.reset();
       busy_ = true;
     }
@@ -91,31 +93,37 @@ void DynamicFilter::workerLoop() {
     }
     std::lock_guard<std::mutex> lock(mutex_);
     busy_ = false;
-    if (!s.empty()) finished_ = std::move(s);
+    if (!s.empty()) finished_ = std::make_pair(std::move(s), frame_number);
   }
 }
 
 Segmentation DynamicFilter::latestSegmentation(const RgbdFrame& frame, DynamicFrameResult* r) {
   if (!segmenter_) return {};
-  const bool due = frame_count_ % std::max(1, options_.segment_every) == 0;
+  const int every = std::max(1, options_.segment_every);
+  const bool due = frame_count_ % every == 0;
   if (!asynchronous_) {
     if (due) {
       latest_ = segmenter_->segment(frame);
-      r->fresh_segmentation = true;
+      latest_frame_ = frame_count_;
       r->segmentation_ms = latest_.ms;
     }
-    return latest_;
+  } else {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (finished_) {
+      latest_ = std::move(finished_->first);
+      latest_frame_ = finished_->second;
+      finished_.reset();
+      r->segmentation_ms = latest_.ms;
+    }
+    if (due && !busy_ && !pending_) {
+      pending_ = frame;  // the images are shared, not copied
+      pending_frame_ = frame_count_;
+      wake_.notify_one();
+    }
   }
-  std::lock_guard<std::mutex> lock(mutex_);
-  if (finished_) {
-    latest_ = std::move(*finished_);
-    finished_.reset();
-    r->segmentation_ms = latest_.ms;
-    r->fresh_segmentation = latest_.t_ns == frame.t_ns;
-  }
-  if (due && !busy_ && !pending_) {
-    pending_ = frame;  // the images are shared, not copied
-    wake_.notify_one();
+  if (latest_frame_ >= 0) {
+    r->mask_age_frames = frame_count_ - latest_frame_;
+    r->fresh_segmentation = r->mask_age_frames < every;
   }
   return latest_;
 }

@@ -44,7 +44,8 @@ struct DynamicFrameResult {
   cv::Mat mask;               ///< CV_8U, 255 = static, 0 = dynamic (empty when the filter is off)
   int points_rejected = 0;    ///< keypoints removed
   int lines_rejected = 0;     ///< segments removed
-  bool fresh_segmentation = false;  ///< masks computed on this very frame
+  bool fresh_segmentation = false;  ///< the masks used are at most segment_every frames old
+  int mask_age_frames = -1;         ///< frames between the segmented frame and this one (-1: no masks)
   double segmentation_ms = -1;      ///< time of a segmentation finished for this frame (-1: none)
   double filter_ms = 0;       ///< matching, checks and fusion
   MotionCheckStatus motion_status = MotionCheckStatus::kTooFewCorrespondences;
@@ -77,13 +78,15 @@ class DynamicFilter {
   bool have_previous_ = false;
   int frame_count_ = 0;
   Segmentation latest_;
+  int latest_frame_ = -1;  // frame_count_ of the frame latest_ was computed on
 
   // Worker: one pending frame at most (a newer one replaces it), one finished result.
   std::thread worker_;
   std::mutex mutex_;
   std::condition_variable wake_;
   std::optional<RgbdFrame> pending_;
-  std::optional<Segmentation> finished_;
+  int pending_frame_ = -1;
+  std::optional<std::pair<Segmentation, int>> finished_;  // with the frame_count_ it was taken at
   bool busy_ = false, stop_ = false;
 };
 

@@ -45,7 +45,8 @@ std::string statsToJson(const RunStats& s, const std::string& extra) {
      << ",\n  \"dynamic\": {\"segmenter\": \"" << s.segmenter << "\", \"points_rejected_per_frame\": "
      << summaryJson(s.dynamic_points_rejected) << ", \"segmentation_ms\": " << summaryJson(s.segmentation_ms)
      << ", \"segmentations\": " << s.segmentation_ms.size() << ", \"fresh_mask_fraction\": "
-     << (s.frames ? static_cast<double>(s.fresh_segmentations) / s.frames : 0.0) << "}"
+     << (s.frames ? static_cast<double>(s.fresh_segmentations) / s.frames : 0.0)
+     << ", \"mask_age_frames\": " << summaryJson(s.mask_age_frames) << "}"
      << ",\n  \"modules\": {\"lines\": " << (s.use_lines ? "true" : "false")
      << ", \"dynamic\": " << (s.use_dynamic ? "true" : "false")
      << ", \"loop_closure\": false, \"sequential\": " << (s.sequential ? "true" : "false") << "}";

@@ -68,6 +68,7 @@ TrackingResult System::feed(const RgbdFrame& frame, const cv::Mat& mask) {
   rec.dynamic_lines_rejected = dyn.lines_rejected;
   rec.segmentation_ms = dyn.segmentation_ms;
   rec.fresh_segmentation = dyn.fresh_segmentation;
+  rec.mask_age_frames = dyn.mask_age_frames;
   const TrackingResult r = pipeline_->tracker.track(frame.t_ns, f);
   rec.tracking_ms = msSince(t0);
   rec.status = r.status;
@@ -124,6 +125,7 @@ RunStats System::stats() const {
     s.dynamic_points_rejected.push_back(r.dynamic_points_rejected);
     if (r.segmentation_ms >= 0) s.segmentation_ms.push_back(r.segmentation_ms);
     s.fresh_segmentations += r.fresh_segmentation;
+    if (r.mask_age_frames >= 0) s.mask_age_frames.push_back(r.mask_age_frames);
   }
   s.lost_events = pipeline_->tracker.lostEvents();
   s.relocalisations = pipeline_->tracker.relocalisations();

@@ -56,7 +56,8 @@ struct FrameRecord {
   int points = 0, lines = 0, matched_points = 0, matched_lines = 0;
   int dynamic_points_rejected = 0, dynamic_lines_rejected = 0;
   double segmentation_ms = -1;   ///< a segmentation that finished for this frame (-1: none)
-  bool fresh_segmentation = false;
+  bool fresh_segmentation = false;  ///< masks at most dynamic.segment_every frames old
+  int mask_age_frames = -1;
 };
 
 struct RunStats {
@@ -65,7 +66,7 @@ struct RunStats {
   double line_rate_fitting = 0, line_rate_endpoints = 0;
   int line_rate_keyframes = 0;
   std::vector<double> tracking_ms, features_ms, ba_ms;
-  std::vector<double> dynamic_points_rejected, segmentation_ms;
+  std::vector<double> dynamic_points_rejected, segmentation_ms, mask_age_frames;
   int fresh_segmentations = 0;
   bool use_lines = true, sequential = false, use_dynamic = false;
   std::string segmenter = "none";
