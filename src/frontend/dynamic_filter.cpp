@@ -168,8 +168,7 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
 
   const MotionCheckResult motion = checkMotion(corr, camera_, options_.motion, prior_T_cur_prev);
   r.motion_status = motion.status;
-  const DelaunayMotionResult delaunay = analyseDelaunayMotion(
-      corr, camera_, options_.delaunay, motion.ok() ? std::optional<SE3>(motion.T_cur_prev) : std::nullopt);
+  const DelaunayMotionResult delaunay = analyseDelaunayMotion(corr, camera_, options_.delaunay, &motion);
   DynamicEvidence evidence;
   evidence.correspondences = &corr;
   evidence.motion = &motion;
