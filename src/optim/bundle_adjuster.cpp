@@ -51,6 +51,11 @@ double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>
 
 LocalBundleAdjuster::LocalBundleAdjuster(BundleAdjusterOptions options) : options_(std::move(options)) {
   options_.model.validate();
+  if (options_.max_iterations < 1 || options_.refine_iterations < 0 || !(options_.max_time_s >= 0.0) ||
+      options_.num_threads < 1)
+    throw ConfigError(str("bundle adjustment: max_iterations (", options_.max_iterations, ") and num_threads (",
+                          options_.num_threads, ") must be >= 1, refine_iterations (", options_.refine_iterations,
+                          ") and max_time_s (", options_.max_time_s, ") >= 0"));
 }
 
 BundleResult LocalBundleAdjuster::adjust(const PinholeCamera& camera, const BundleProblem& problem) const {
@@ -258,6 +263,9 @@ BundleResult LocalBundleAdjuster::adjust(const PinholeCamera& camera, const Bund
   using LS = BundleAdjusterOptions::LinearSolver;
   LS ls = options_.linear_solver;
   if (ls == LS::kAuto) ls = free_poses <= 40 ? LS::kDenseSchur : LS::kSparseSchur;
+  if (ls == LS::kSparseSchur && !ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE) &&
+      !ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::EIGEN_SPARSE))
+    ls = LS::kDenseSchur;  // this Ceres has no sparse backend
   so.linear_solver_type = ls == LS::kDenseSchur ? ceres::DENSE_SCHUR : ceres::SPARSE_SCHUR;
   so.linear_solver_ordering = ordering;
   so.num_threads = options_.num_threads;
@@ -279,7 +287,7 @@ BundleResult LocalBundleAdjuster::adjust(const PinholeCamera& camera, const Bund
   };
 
   ceres::Solver::Summary s1;
-  if (!solve(std::max(1, options_.max_iterations), &s1)) return finish(OptimStatus::kSolverFailed);
+  if (!solve(options_.max_iterations, &s1)) return finish(OptimStatus::kSolverFailed);
   result.initial_cost = s1.initial_cost;
   result.final_cost = s1.final_cost;
   result.outliers = classify();

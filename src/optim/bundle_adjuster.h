@@ -7,9 +7,17 @@
 // moves only within the plane through its initial position perpendicular to the initial
 // direction. No prior is added; endpoint extents are the caller's (the mapper's) business.
 //
+// Robustness: a Huber loss per observation (threshold sqrt(chi2): 2 dof for points without
+// depth and for lines, 3 dof for points with depth, jointly over pixel and depth). Pass 1
+// optimises all usable observations; observations over their chi2 gate are then switched off
+// for pass 2; the returned flags are the chi2 test at the final values (for culling).
+// Observations that cannot be projected at the initial values (behind the camera) or with a
+// zero-length segment are left out and flagged.
+//
 // Gauge: keyframes flagged fixed are held constant; when none is, the first keyframe that
-// has observations is held fixed. Under-constrained landmarks (a point seen once without
-// depth, a line seen fewer than twice) are held constant.
+// has observations is held fixed (with depth this fixes the gauge; without depth the scale
+// needs two fixed keyframes). Under-constrained landmarks (a point seen once without depth,
+// a line seen fewer than twice) are held constant.
 //
 // Stateless; thread safety: adjust() is const and may run concurrently on different problems.
 #pragma once

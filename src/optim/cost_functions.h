@@ -2,9 +2,9 @@
 // optim sources and tests/optim, never from another module's headers (Ceres stays in optim).
 //
 // Pose block layout (7 doubles): qx qy qz qw tx ty tz, Eigen's quaternion order.
-// BA and pose-only problems: the block holds T_c_w (world to camera), with PoseLiftManifold
-// and analytic Jacobians (the projection costs). The pose graph: the block holds T_w_c, with
-// PoseManifold (unit quaternion x R^3) and an autodiff cost.
+// BA: the block holds T_c_w (world to camera), with PoseLiftManifold and analytic Jacobians.
+// Pose-only: a Euclidean 6-dof increment around a T_c_w base (PoseOnlyBatchCost).
+// Pose graph: the block holds T_w_c, with PoseManifold (unit quaternion x R^3) and autodiff.
 #pragma once
 
 #include <ceres/autodiff_cost_function.h>
@@ -62,7 +62,8 @@ bool projectIdeal(const Intrinsics& K, const Eigen::Matrix<T, 3, 1>& p_c, double
 }
 
 /// Whitened point residual: (projection - uv) / sigma, and for N == 3 also
-/// (z_pred - z_obs) / sigma_z.
+/// (z_pred - z_obs) / sigma_z. operator() is the plain reference evaluation (used to classify
+/// observations); the analytic costs below compute the same residuals with Jacobians.
 template <int N>
 struct PointTerm {
   static_assert(N == 2 || N == 3, "a point term has 2 (pixel) or 3 (pixel + depth) residuals");
@@ -116,6 +117,10 @@ class PoseLiftManifold final : public ceres::Manifold {
   int AmbientSize() const override { return kPoseSize; }
   int TangentSize() const override { return 6; }
   bool Plus(const double* x, const double* delta, double* x_plus_delta) const override {
+    plus(x, delta, x_plus_delta);
+    return true;
+  }
+  static void plus(const double* x, const double* delta, double* x_plus_delta) {
     const Eigen::Map<const Eigen::Quaterniond> q(x);
     const Eigen::Map<const Eigen::Vector3d> t(x + 4), rho(delta), phi(delta + 3);
     const Eigen::Quaterniond dq = expQuaternion(phi);
@@ -123,7 +128,6 @@ class PoseLiftManifold final : public ceres::Manifold {
     Eigen::Map<Eigen::Vector3d> t_out(x_plus_delta + 4);
     q_out = (dq * q).normalized();
     t_out = dq * t + rho;
-    return true;
   }
   bool PlusJacobian(const double*, double* jacobian) const override {
     Eigen::Map<Eigen::Matrix<double, 7, 6, Eigen::RowMajor>> J(jacobian);
@@ -269,7 +273,11 @@ class LineCost final : public ceres::SizedCostFunction<2, kPoseSize, kLineSize> 
 };
 
 /// All observations of a pose-only problem in ONE residual block: per-observation Ceres
-/// residual blocks cost more in bookkeeping than the projections themselves.
+/// residual blocks cost more in bookkeeping than the projections themselves. The parameter
+/// is a Euclidean 6-vector delta = [rho; phi] around a base pose (T_c_w, pose block layout)
+/// owned by the caller: T_c_w = PoseLiftManifold::Plus(base, delta), with the exact Jacobian
+/// (SO(3) left Jacobian included), so no manifold is needed; the caller folds delta into the
+/// base between solves.
 ///
 /// Robustness is iteratively reweighted least squares: reweight(pose) fixes, per observation,
 /// w = sqrt(rho'(s)) of the Huber loss at that pose (s = squared whitened residual), and the
@@ -282,8 +290,8 @@ class PoseOnlyBatchCost final : public ceres::CostFunction {
  public:
   /// huber2 / huber3: Huber thresholds on the whitened residual norm of 2- and 3-row
   /// observations; 0 disables the loss.
-  PoseOnlyBatchCost(double huber2, double huber3) : huber2_(huber2), huber3_(huber3) {
-    mutable_parameter_block_sizes()->assign(1, kPoseSize);
+  PoseOnlyBatchCost(const double* base, double huber2, double huber3) : base_(base), huber2_(huber2), huber3_(huber3) {
+    mutable_parameter_block_sizes()->assign(1, 6);
   }
   void addPoint(const PointTerm<2>& t, const Eigen::Vector3d& p_w, const std::uint8_t* active) {
     mono_.push_back({t, p_w, active, rows_, 1.0});
@@ -299,8 +307,9 @@ class PoseOnlyBatchCost final : public ceres::CostFunction {
     grow(2);
   }
 
-  /// Sets the Huber weights at `pose` (robust = true) or all weights to 1 (robust = false).
-  void reweight(const double* pose, bool robust) {
+  /// Sets the Huber weights at the base pose (robust = true) or all weights to 1 (robust = false).
+  void reweight(bool robust) {
+    const double* pose = base_;
     auto weightOf = [](double delta, double s) { return s > delta * delta ? std::sqrt(delta / std::sqrt(s)) : 1.0; };
     double r[3];
     for (auto& o : mono_)
@@ -323,23 +332,62 @@ class PoseOnlyBatchCost final : public ceres::CostFunction {
   double lineWeight(size_t k) const { return lines_[k].weight; }
 
   bool Evaluate(double const* const* p, double* r, double** J) const override {
+    double pose[kPoseSize];
+    PoseLiftManifold::plus(base_, p[0], pose);
+    // dp_c/dphi = -[p_c - rho]x J_l(phi): the left-perturbation Jacobians of the terms
+    // (-[p_c]x) are corrected by the rho shift and J_l below.
+    const Eigen::Map<const Eigen::Vector3d> rho(p[0]), phi(p[0] + 3);
+    const Eigen::Matrix3d Jl = leftJacobianSO3(phi);
     double* Jp = J ? J[0] : nullptr;
+    auto convert = [&](int n, const double* J7, double* J6) {  // N x 7 lifted -> N x 6 exact
+      for (int i = 0; i < n; ++i) {
+        const Eigen::Map<const Eigen::Matrix<double, 1, 7>> a(J7 + 7 * i);
+        Eigen::Map<Eigen::Matrix<double, 1, 6>> b(J6 + 6 * i);
+        const Eigen::Matrix<double, 1, 3> dr_dpc = a.head<3>();
+        b.head<3>() = dr_dpc;
+        // a.segment(3) = -dr_dpc [p_c]x; the exact term is -dr_dpc [p_c - rho]x J_l.
+        b.tail<3>() = (a.segment<3>(3) + dr_dpc * hat(rho)) * Jl;
+      }
+    };
+    double J7[3 * 7];
+    auto run = [&](const auto& o, int n, auto eval) {
+      double* Jo = Jp ? Jp + o.row * 6 : nullptr;
+      double* ro = r + o.row;
+      if (o.active && !*o.active) {
+        std::fill(ro, ro + n, 0.0);
+        if (Jo) std::fill(Jo, Jo + n * 6, 0.0);
+        return true;
+      }
+      if (!eval(ro, Jo ? J7 : nullptr)) return false;
+      if (Jo) convert(n, J7, Jo);
+      if (o.weight != 1.0) {
+        for (int i = 0; i < n; ++i) ro[i] *= o.weight;
+        if (Jo)
+          for (int i = 0; i < n * 6; ++i) Jo[i] *= o.weight;
+      }
+      return true;
+    };
     for (const auto& o : mono_)
-      if (!evalOne(o, 2, r, Jp, [&](double* ro, double* Jo) {
-            return detail::evaluatePoint<2>(o.term, p[0], o.p_w, ro, Jo, nullptr);
-          }))
+      if (!run(o, 2, [&](double* ro, double* Jo) { return detail::evaluatePoint<2>(o.term, pose, o.p_w, ro, Jo, nullptr); }))
         return false;
     for (const auto& o : rgbd_)
-      if (!evalOne(o, 3, r, Jp, [&](double* ro, double* Jo) {
-            return detail::evaluatePoint<3>(o.term, p[0], o.p_w, ro, Jo, nullptr);
-          }))
+      if (!run(o, 3, [&](double* ro, double* Jo) { return detail::evaluatePoint<3>(o.term, pose, o.p_w, ro, Jo, nullptr); }))
         return false;
     for (const auto& o : lines_)
-      if (!evalOne(o, 2, r, Jp, [&](double* ro, double* Jo) {
-            return detail::evaluateLine(o.term, p[0], o.P_w, o.Q_w, ro, Jo, nullptr);
+      if (!run(o, 2, [&](double* ro, double* Jo) {
+            return detail::evaluateLine(o.term, pose, o.P_w, o.Q_w, ro, Jo, nullptr);
           }))
         return false;
     return true;
+  }
+
+  /// Left Jacobian of SO(3): Exp(phi + e) ~ Exp(J_l(phi) e) Exp(phi).
+  static Eigen::Matrix3d leftJacobianSO3(const Eigen::Vector3d& phi) {
+    const double theta = phi.norm();
+    const Eigen::Matrix3d K = hat(phi);
+    if (theta < 1e-8) return Eigen::Matrix3d::Identity() + 0.5 * K;
+    const double t2 = theta * theta;
+    return Eigen::Matrix3d::Identity() + (1.0 - std::cos(theta)) / t2 * K + (theta - std::sin(theta)) / (t2 * theta) * K * K;
   }
 
  private:
@@ -363,25 +411,7 @@ class PoseOnlyBatchCost final : public ceres::CostFunction {
     rows_ += n;
     set_num_residuals(rows_);
   }
-  // Evaluates one observation into its rows (zero when switched off) and applies its weight.
-  template <typename Entry, typename Eval>
-  static bool evalOne(const Entry& o, int n, double* r, double* J, Eval eval) {
-    double* ro = r + o.row;
-    double* Jo = J ? J + o.row * kPoseSize : nullptr;
-    if (o.active && !*o.active) {
-      std::fill(ro, ro + n, 0.0);
-      if (Jo) std::fill(Jo, Jo + n * kPoseSize, 0.0);
-      return true;
-    }
-    if (!eval(ro, Jo)) return false;
-    if (o.weight != 1.0) {
-      for (int i = 0; i < n; ++i) ro[i] *= o.weight;
-      if (Jo)
-        for (int i = 0; i < n * kPoseSize; ++i) Jo[i] *= o.weight;
-    }
-    return true;
-  }
-
+  const double* base_;
   double huber2_, huber3_;
   int rows_ = 0;
   std::vector<PointEntry<2>> mono_;

@@ -3,6 +3,7 @@
 #include <ceres/loss_function.h>
 #include <ceres/problem.h>
 #include <ceres/solver.h>
+#include <ceres/types.h>
 
 #include <Eigen/Cholesky>
 #include <array>
@@ -28,8 +29,11 @@ Eigen::Matrix<double, 6, 6> PoseGraphProblem::information(double sigma_trans_m, 
 }
 
 PoseGraphOptimizer::PoseGraphOptimizer(PoseGraphOptions options) : options_(std::move(options)) {
-  if (options_.huber_delta < 0.0)
-    throw ConfigError(str("pose graph: huber_delta must be >= 0 (got ", options_.huber_delta, ")"));
+  if (!(options_.huber_delta >= 0.0) || !(options_.max_time_s >= 0.0) || options_.max_iterations < 1 ||
+      options_.num_threads < 1)
+    throw ConfigError(str("pose graph: huber_delta (", options_.huber_delta, ") and max_time_s (", options_.max_time_s,
+                          ") must be >= 0, max_iterations (", options_.max_iterations, ") and num_threads (",
+                          options_.num_threads, ") >= 1"));
 }
 
 PoseGraphResult PoseGraphOptimizer::optimize(const PoseGraphProblem& problem) const {
@@ -92,7 +96,9 @@ PoseGraphResult PoseGraphOptimizer::optimize(const PoseGraphProblem& problem) co
   if (free_vertices == 0) return finish(OptimStatus::kNothingToOptimise);
 
   ceres::Solver::Options so;
-  so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  const bool sparse = ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE) ||
+                      ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::EIGEN_SPARSE);
+  so.linear_solver_type = sparse ? ceres::SPARSE_NORMAL_CHOLESKY : ceres::DENSE_QR;
   so.max_num_iterations = options_.max_iterations;
   if (options_.max_time_s > 0.0) so.max_solver_time_in_seconds = options_.max_time_s;
   so.num_threads = options_.num_threads;

@@ -3,10 +3,13 @@
 #include <ceres/problem.h>
 #include <ceres/solver.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <memory>
+
+#include "core/error.h"
+#include "core/log.h"
 
 #include "optim/cost_functions.h"
 
@@ -22,6 +25,10 @@ Intrinsics intrinsicsOf(const PinholeCamera& camera) { return {camera.fx, camera
 
 PoseOptimizer::PoseOptimizer(PoseOptimizerOptions options) : options_(std::move(options)) {
   options_.model.validate();
+  if (options_.rounds < 1 || options_.iterations_per_round < 1 || options_.min_inliers < 0 || options_.num_threads < 1)
+    throw ConfigError(str("pose optimiser: rounds (", options_.rounds, "), iterations_per_round (",
+                          options_.iterations_per_round, ") and num_threads (", options_.num_threads,
+                          ") must be >= 1 and min_inliers (", options_.min_inliers, ") >= 0"));
 }
 
 PoseOnlyResult PoseOptimizer::optimize(const PinholeCamera& camera, const PoseOnlyProblem& problem) const {
@@ -47,8 +54,8 @@ PoseOnlyResult PoseOptimizer::optimize(const PinholeCamera& camera, const PoseOn
   double pose[kPoseSize];
   poseToBlock(problem.T_w_c_init.inverse(), pose);
 
-  // One cost per observation; `active` (stable storage) switches outliers off between rounds.
-  // Index layout of `active`: points first, then lines.
+  // Per-observation terms; `active` (stable storage, points first, then lines) switches
+  // outliers off between rounds.
   std::vector<std::uint8_t> active(n_points + n_lines, 0);
   std::vector<PointTerm<2>> mono(n_points);
   std::vector<PointTerm<3>> rgbd(n_points);
@@ -122,7 +129,9 @@ PoseOnlyResult PoseOptimizer::optimize(const PinholeCamera& camera, const PoseOn
   for (size_t i = 0; i < usable.size(); ++i) active[i] = usable[i];
 
   // One residual block for everything (see PoseOnlyBatchCost); the problem owns it.
-  auto* cost = new PoseOnlyBatchCost(std::sqrt(model.chi2_2dof), std::sqrt(model.chi2_3dof));
+  // The parameter is a 6-dof increment around `pose`, folded back after every solve.
+  double delta[6] = {0, 0, 0, 0, 0, 0};
+  auto* cost = new PoseOnlyBatchCost(pose, std::sqrt(model.chi2_2dof), std::sqrt(model.chi2_3dof));
   for (size_t i = 0; i < n_points; ++i) {
     if (!usable[i]) continue;
     if (has_depth[i])
@@ -134,8 +143,7 @@ PoseOnlyResult PoseOptimizer::optimize(const PinholeCamera& camera, const PoseOn
     if (usable[n_points + i])
       cost->addLine(line_terms[i], problem.lines[i].P_w, problem.lines[i].Q_w, &active[n_points + i]);
   ceres::Problem ceres_problem;
-  ceres_problem.AddParameterBlock(pose, kPoseSize, new PoseLiftManifold());
-  ceres_problem.AddResidualBlock(cost, nullptr, pose);
+  ceres_problem.AddResidualBlock(cost, nullptr, delta);
 
   ceres::Solver::Options so;
   so.linear_solver_type = options_.normal_cholesky ? ceres::DENSE_NORMAL_CHOLESKY : ceres::DENSE_QR;
@@ -144,15 +152,18 @@ PoseOnlyResult PoseOptimizer::optimize(const PinholeCamera& camera, const PoseOn
   so.logging_type = ceres::SILENT;
   so.minimizer_progress_to_stdout = false;
 
-  const int rounds = std::max(1, options_.rounds);
+  const int rounds = options_.rounds;
   int inliers = 0;
   for (int round = 0; round < rounds; ++round) {
     const bool robust = round < rounds - 1 || rounds == 1 || options_.robust_last_round;
-    cost->reweight(pose, robust);
+    cost->reweight(robust);
     ceres::Solver::Summary summary;
     ceres::Solve(so, &ceres_problem, &summary);
-    if (getenv("PO_DEBUG")) fprintf(stderr, "round %d: %s\n", round, summary.BriefReport().c_str());
-    result.iterations += static_cast<int>(summary.iterations.size()) - 1;
+    double moved[kPoseSize];
+    PoseLiftManifold::plus(pose, delta, moved);
+    std::copy(moved, moved + kPoseSize, pose);
+    std::fill(delta, delta + 6, 0.0);
+    result.iterations += std::max(0, static_cast<int>(summary.iterations.size()) - 1);
     if (summary.termination_type == ceres::FAILURE || !std::isfinite(summary.final_cost))
       return finish(OptimStatus::kSolverFailed);
     inliers = classify(&result.final_cost);

@@ -70,9 +70,10 @@ std::vector<Eigen::Vector3d> pointsInView(const PinholeCamera& cam, const SE3& T
 }
 
 std::vector<Segment3> segmentsInView(const PinholeCamera& cam, const std::vector<SE3>& T_w_c, int n, double zmin,
-                                     double zmax, std::mt19937& rng, double min_length_px) {
+                                     double zmax, std::mt19937& rng, double min_length_px,
+                                     double min_plane_angle_deg) {
   std::vector<Segment3> out;
-  for (int attempt = 0; attempt < 10000 && static_cast<int>(out.size()) < n; ++attempt) {
+  for (int attempt = 0; attempt < 1000 * n && static_cast<int>(out.size()) < n; ++attempt) {
     const Eigen::Vector3d c = pointsInView(cam, T_w_c.front(), 1, zmin, zmax, rng).front();
     const Eigen::Vector3d d = randomUnit(rng);
     const double half = 0.5 * uniform(rng, 0.4, 1.2);
@@ -87,6 +88,16 @@ std::vector<Segment3> segmentsInView(const PinholeCamera& cam, const std::vector
       ok = ok && P_c.z() > 0 && Q_c.z() > 0 && sin_view > 0.5 &&
            (cam.projectIdeal(P_c) - cam.projectIdeal(Q_c)).norm() > min_length_px;
     }
+    // Triangulable: the planes through the line and the camera centres must span a wide
+    // enough angle about the line (as a mapper's triangulation-angle check would demand).
+    double widest = 0.0;
+    for (const SE3& A : T_w_c)
+      for (const SE3& B : T_w_c) {
+        const Eigen::Vector3d na = (S.P - A.translation()).cross(S.Q - A.translation()).normalized();
+        const Eigen::Vector3d nb = (S.P - B.translation()).cross(S.Q - B.translation()).normalized();
+        widest = std::max(widest, std::acos(std::min(1.0, std::abs(na.dot(nb)))));
+      }
+    ok = ok && widest > min_plane_angle_deg * M_PI / 180.0;
     if (ok) out.push_back(S);
   }
   if (static_cast<int>(out.size()) < n) throw std::runtime_error("segmentsInView: could not place the segments");
@@ -130,7 +141,8 @@ PoseOnlyScene makePoseOnlyScene(const PinholeCamera& cam, int n_points, int n_li
 }
 
 BundleScene makeBundleScene(const PinholeCamera& cam, int n_kf, int n_points, int n_lines, bool with_depth,
-                            double noise_px, std::mt19937& rng, int views_per_point) {
+                            double noise_px, std::mt19937& rng, int views_per_point,
+                            double min_line_plane_angle_deg) {
   const MeasurementModel model;
   BundleScene s;
   const int views = views_per_point > 0 ? std::min(views_per_point, n_kf) : n_kf;
@@ -143,7 +155,7 @@ BundleScene makeBundleScene(const PinholeCamera& cam, int n_kf, int n_points, in
     if (ok) s.points_true.push_back(p);
   }
   if (static_cast<int>(s.points_true.size()) < n_points) throw std::runtime_error("makeBundleScene: too few points");
-  s.lines_true = segmentsInView(cam, s.T_w_c_true, n_lines, 1.2, 2.5, rng);
+  s.lines_true = segmentsInView(cam, s.T_w_c_true, n_lines, 1.2, 2.5, rng, 60.0, min_line_plane_angle_deg);
 
   for (int k = 0; k < n_kf; ++k) s.problem.keyframes.push_back({s.T_w_c_true[k], false});
   for (const auto& p : s.points_true) s.problem.points.push_back({p, false});

@@ -38,9 +38,12 @@ std::vector<Eigen::Vector3d> pointsInView(const PinholeCamera& cam, const SE3& T
                                           double zmax, std::mt19937& rng);
 /// Random segments (random direction, 0.4-1.2 m long) whose endpoints are in view of every
 /// camera given, with depth in [zmin, zmax] from the first; in every view the segment is at
-/// least min_length_px long and at more than 30 degrees from the viewing ray.
+/// least min_length_px long and at more than 30 degrees from the viewing ray, and (with
+/// several cameras) the planes through the segment and the camera centres span more than
+/// min_plane_angle_deg.
 std::vector<Segment3> segmentsInView(const PinholeCamera& cam, const std::vector<SE3>& T_w_c, int n, double zmin,
-                                     double zmax, std::mt19937& rng, double min_length_px = 60.0);
+                                     double zmax, std::mt19937& rng, double min_length_px = 60.0,
+                                     double min_plane_angle_deg = 0.0);
 
 /// The 2D segment a detector would report for S in camera T_w_c: projections of points a bit
 /// inside/outside P and Q along the line (so endpoints do not correspond), plus pixel noise.
@@ -58,7 +61,10 @@ PoseOnlyScene makePoseOnlyScene(const PinholeCamera& cam, int n_points, int n_li
 
 /// A bundle problem over n_kf keyframes of pathPose(): every point and line is in view of all
 /// keyframes; a point is observed in all of them (views_per_point = 0) or in a window of
-/// views_per_point consecutive ones; lines in all. Initial values = truth (callers perturb).
+/// views_per_point consecutive ones; lines (1.2-2.5 m away) in all, and only lines whose
+/// observation planes span more than min_line_plane_angle_deg (well triangulable: with 0.5 px
+/// noise their endpoint Cramer-Rao std stays below about 3 mm). Initial values = truth
+/// (callers perturb).
 struct BundleScene {
   std::vector<SE3> T_w_c_true;
   std::vector<Eigen::Vector3d> points_true;
@@ -66,6 +72,7 @@ struct BundleScene {
   BundleProblem problem;
 };
 BundleScene makeBundleScene(const PinholeCamera& cam, int n_kf, int n_points, int n_lines, bool with_depth,
-                            double noise_px, std::mt19937& rng, int views_per_point = 0);
+                            double noise_px, std::mt19937& rng, int views_per_point = 0,
+                            double min_line_plane_angle_deg = 40.0);
 
 }  // namespace plslam::test

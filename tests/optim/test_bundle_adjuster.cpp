@@ -106,13 +106,12 @@ TEST(LocalBundleAdjuster, ConvergesFromPerturbedTruthWithNoisyPointsAndLines) {
     EXPECT_LT((r.T_w_c[k].translation() - s.T_w_c_true[k].translation()).norm(), 5e-3) << "keyframe " << k;
     EXPECT_LT((r.T_w_c[k].inverse() * s.T_w_c_true[k]).angle() * 180 / M_PI, 0.1) << "keyframe " << k;
   }
-  // Endpoints near the TRUE infinite lines. At 0.5 px the Cramer-Rao std of an endpoint in
-  // this geometry (10 views, 1.2-2.5 m, 1.5 m sweep) is 2-6 mm, so the RMS is held to 1 cm and
-  // the worst of the 60 endpoints to 3 cm (it starts at up to 5 cm).
+  // Every endpoint within 1 cm of its TRUE infinite line (they start up to 5 cm off). The
+  // scene keeps well-triangulable lines only (observation planes spanning > 40 degrees):
+  // weakly triangulated ones are legitimately off by a few cm at 0.5 px.
   double worst, rms;
   lineErrors(s, r, &worst, &rms);
-  EXPECT_LT(rms, 0.01);
-  EXPECT_LT(worst, 0.03);
+  EXPECT_LT(worst, 0.01) << "rms " << rms;
   // Few observations flagged with noise at the modelled level.
   EXPECT_LT(r.outliers, 0.05 * (s.problem.point_obs.size() + s.problem.line_obs.size()));
 }

@@ -194,7 +194,7 @@ TEST(OptimCosts, JacobiansMatchNumericDifferences) {
   expectJacobiansMatchNumeric(lc, {&lift, nullptr}, {pose, line});
 
   // The pose-only batch cost, with observations inside and beyond the Huber threshold (weighted).
-  PoseOnlyBatchCost batch(std::sqrt(5.991), std::sqrt(7.815));
+  PoseOnlyBatchCost batch(pose, std::sqrt(5.991), std::sqrt(7.815));
   const std::uint8_t on = 1, off = 0;
   const Eigen::Vector2d uv = cam.projectIdeal(X_c);
   batch.addPoint(PointTerm<2>{K(), uv + Eigen::Vector2d(0.5, -0.3), 1.0, 0.0, 0.0, 1e-3}, Eigen::Vector3d(point), &on);
@@ -203,11 +203,22 @@ TEST(OptimCosts, JacobiansMatchNumericDifferences) {
   batch.addPoint(PointTerm<3>{K(), uv + Eigen::Vector2d(30, 0), 1.2, 2.7, 100.0, 1e-3}, Eigen::Vector3d(point), &off);
   batch.addLine(lt, Eigen::Vector3d(line), Eigen::Vector3d(line + 3), &on);
   ASSERT_EQ(batch.num_residuals(), 2 + 2 + 3 + 3 + 2);
-  batch.reweight(pose, true);
+  batch.reweight(true);
   ASSERT_LT(batch.monoWeight(1), 1.0);  // the 9.8 px one is beyond the threshold
-  expectJacobiansMatchNumeric(batch, {&lift}, {pose});
-  batch.reweight(pose, false);
-  expectJacobiansMatchNumeric(batch, {&lift}, {pose});
+  // Its parameter is a Euclidean increment around the base pose; away from zero the SO(3)
+  // left Jacobian matters.
+  double delta[6] = {0.01, -0.02, 0.015, 0.03, -0.05, 0.02};
+  expectJacobiansMatchNumeric(batch, {nullptr}, {delta});
+  batch.reweight(false);
+  expectJacobiansMatchNumeric(batch, {nullptr}, {delta});
+  // At delta = 0 it evaluates at the base pose itself.
+  double zero[6] = {0, 0, 0, 0, 0, 0}, r_batch[12], r_line[2];
+  const double* bp[1] = {zero};
+  ASSERT_TRUE(batch.Evaluate(bp, r_batch, nullptr));
+  const double* lp[2] = {pose, line};
+  ASSERT_TRUE(lc.Evaluate(lp, r_line, nullptr));
+  EXPECT_NEAR(r_batch[10], r_line[0], 1e-12);
+  EXPECT_NEAR(r_batch[11], r_line[1], 1e-12);
 
   // The autodiff pose-graph cost on its quaternion manifold.
   const PoseManifold manifold;
@@ -229,18 +240,18 @@ TEST(OptimCosts, BatchWeightsAreTheHuberDerivative) {
   const PinholeCamera cam = syntheticCamera();
   const Eigen::Vector3d X_c(0.1, 0.2, 2.0), p_w = T_w_c * X_c;
   const double delta = std::sqrt(5.991);
-  PoseOnlyBatchCost batch(delta, std::sqrt(7.815));
+  PoseOnlyBatchCost batch(pose, delta, std::sqrt(7.815));
   const std::vector<double> offsets = {0.5, 2.0, 2.5, 10.0, 100.0};
   for (double off : offsets)
     batch.addPoint(PointTerm<2>{K(), cam.projectIdeal(X_c) + Eigen::Vector2d(off, 0.0), 1.0, 0.0, 0.0, 1e-3}, p_w, nullptr);
-  batch.reweight(pose, true);
+  batch.reweight(true);
   const ceres::HuberLoss huber(delta);
   for (size_t k = 0; k < offsets.size(); ++k) {
     double rho[3];
     huber.Evaluate(offsets[k] * offsets[k], rho);
     EXPECT_NEAR(batch.monoWeight(k) * batch.monoWeight(k), rho[1], 1e-9) << offsets[k];
   }
-  batch.reweight(pose, false);
+  batch.reweight(false);
   for (size_t k = 0; k < offsets.size(); ++k) EXPECT_EQ(batch.monoWeight(k), 1.0);
 }
 
