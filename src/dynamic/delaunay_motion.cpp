@@ -8,6 +8,9 @@
 #include <opencv2/imgproc.hpp>
 #include <unordered_set>
 
+#include "core/error.h"
+#include "core/log.h"
+
 namespace plslam {
 
 namespace {
@@ -46,7 +49,7 @@ int DelaunayMotionResult::brokenCount() const {
 int DelaunayMotionResult::movingCount() const { return static_cast<int>(std::count(moving.begin(), moving.end(), 1)); }
 
 DelaunayMotionResult analyseDelaunayMotion(const std::vector<MotionCorrespondence>& corr, const PinholeCamera& cam,
-                                           const DelaunayMotionOptions& o, const std::optional<SE3>& reference_motion) {
+                                           const DelaunayMotionOptions& o, const MotionCheckResult* motion) {
   const int n_all = static_cast<int>(corr.size());
   DelaunayMotionResult res;
   res.in_graph.assign(n_all, 0);
@@ -75,16 +78,18 @@ DelaunayMotionResult analyseDelaunayMotion(const std::vector<MotionCorrespondenc
     return it == vertex_of.end() ? -1 : it->second;
   };
 
-  // 2. The reference motion: given, or estimated over the graph's features.
-  if (reference_motion) {
-    res.reference = reference_motion;
+  // 2. The camera motion: the caller's check, or one run here.
+  MotionCheckResult own;
+  if (motion) {
+    if (motion->moving.size() != corr.size())
+      throw DataError(str("Delaunay motion: the motion check has ", motion->moving.size(), " flags for ", corr.size(),
+                          " correspondences"));
     res.reference_given = true;
   } else {
-    std::vector<MotionCorrespondence> subset;
-    for (int i : nodes) subset.push_back(corr[i]);
-    const MotionCheckResult check = checkMotion(subset, cam, o.motion);
-    if (check.ok()) res.reference = check.T_cur_prev;
+    own = checkMotion(corr, cam, o.motion);
+    motion = &own;
   }
+  if (motion->ok()) res.reference = motion->T_cur_prev;
   res.status = res.reference ? DelaunayStatus::kOk : DelaunayStatus::kNoReference;
 
   // 3. Edges: the length test.
@@ -124,7 +129,7 @@ DelaunayMotionResult analyseDelaunayMotion(const std::vector<MotionCorrespondenc
 
   // 4. Moving features.
   for (int i : nodes) {
-    if (res.reference) res.moving[i] = rigidChi2(corr[i], *res.reference, cam, noise) >= o.motion.chi2_3d;
+    if (res.reference) res.moving[i] = motion->moving[i];
     else res.moving[i] = incident[i] > 0 && res.broken_fraction[i] > o.broken_fraction;
   }
 

@@ -3,16 +3,15 @@
 // their current pixels (cv::Subdiv2D). Rigid scenery keeps the 3D length of every edge; an
 // edge that joins a moving object to the background usually does not.
 //
-//  1. Reference motion: the static T_cur_prev, given (e.g. MotionCheckResult::T_cur_prev) or
-//     estimated by checkMotion over the graph's features.
+//  1. Camera motion: the geometric check's result (given, or run here).
 //  2. Edge test: an edge is broken when its 3D length change exceeds the noise of the two
 //     lengths (the point covariances of motion_check.h, chi2 with 1 dof).
-//  3. Moving features: with a reference, those that do not fit it (the 3D test of
-//     motion_check.h); without one (kNoReference), those whose edges are mostly broken.
-//     Edge lengths alone are not trusted to decide or to join a moving object to the
-//     background: an object crossing the view in front of a farther wall changes the
-//     lengths of its edges to the wall very little (they point along the depth, where the
-//     noise is largest); in the tests about half of such edges stay within the noise.
+//  3. Moving features: with a camera motion, the check's flags; without one (kNoReference),
+//     the features whose edges are mostly broken. Edge lengths alone are not trusted to
+//     decide or to join a moving object to the background: an object crossing the view in
+//     front of a farther wall changes the lengths of its edges to the wall very little (they
+//     point along the depth, where the noise is largest); in the tests about half of such
+//     edges stay within the noise.
 //  4. Regions: moving features joined by kept edges (they move rigidly together), with the
 //     convex hull of their current pixels.
 //
@@ -31,7 +30,7 @@
 namespace plslam {
 
 struct DelaunayMotionOptions {
-  MotionCheckOptions motion;       ///< noise model, the 3D test (chi2_3d) and the RANSAC for the reference motion
+  MotionCheckOptions motion;       ///< noise model of the edge test; the geometric check when none is given
   double chi2_length = 10.83;      ///< edge broken when (length change)^2 / variance exceeds this (1 dof, 99.9%)
   double broken_fraction = 0.5;    ///< without a reference, a feature moves when more of its edges than this are broken
   int min_region_features = 3;     ///< moving regions smaller than this are not reported (their features stay flagged)
@@ -40,7 +39,7 @@ struct DelaunayMotionOptions {
 enum class DelaunayStatus {
   kOk,             ///< graph built, reference motion available
   kTooFewPoints,   ///< fewer than 3 correspondences with depth inside the image: no graph
-  kNoReference,    ///< no reference motion (the check failed): moving = mostly broken edges (length test)
+  kNoReference,    ///< no camera motion (the check failed): moving = mostly broken edges (length test)
 };
 const char* delaunayStatusName(DelaunayStatus status);
 
@@ -65,8 +64,8 @@ struct DelaunayMotionResult {
   std::vector<uint8_t> in_graph;        ///< per correspondence: a vertex of the triangulation
   std::vector<uint8_t> moving;          ///< per correspondence: judged moving by the graph
   std::vector<float> broken_fraction;   ///< per correspondence: broken / incident edges (NaN outside the graph)
-  std::optional<SE3> reference;         ///< the static motion T_cur_prev the groups were judged by
-  bool reference_given = false;         ///< the reference came from the caller (else from checkMotion here)
+  std::optional<SE3> reference;         ///< the camera motion T_cur_prev the features were judged by
+  bool reference_given = false;         ///< it came from the caller's check (else from checkMotion here)
   std::vector<MovingRegion> regions;    ///< moving regions of at least min_region_features
 
   int brokenCount() const;
@@ -74,10 +73,11 @@ struct DelaunayMotionResult {
 };
 
 /// Builds the graph over the correspondences with depth in both frames (current pixels inside
-/// the camera's image) and finds the moving features and regions. `reference_motion`:
-/// a known static T_cur_prev (e.g. MotionCheckResult::T_cur_prev when ok), else it is estimated.
+/// the camera's image) and finds the moving features and regions. `motion`: the geometric
+/// check of the same correspondences (checkMotion is run here when null; when it is given but
+/// failed, the graph works without a camera motion). Throws DataError when its size differs.
 DelaunayMotionResult analyseDelaunayMotion(const std::vector<MotionCorrespondence>& correspondences,
                                            const PinholeCamera& camera, const DelaunayMotionOptions& options = {},
-                                           const std::optional<SE3>& reference_motion = std::nullopt);
+                                           const MotionCheckResult* motion = nullptr);
 
 }  // namespace plslam

@@ -29,32 +29,94 @@ struct DepthSet {
   std::vector<int> index;  // into the correspondences
   std::vector<Eigen::Vector3d> p, c;
   std::vector<Eigen::Matrix3d> cov_p, cov_c;
+  std::vector<Eigen::Matrix3d> info;  // (cov_p + cov_c)^-1: the hypothesis' rotation ignored (a few degrees between frames)
 };
 
+/// Exact chi2 of depth correspondence k under (R, t).
 double setChi2(const DepthSet& s, size_t k, const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
   const Eigen::Vector3d r = R * s.p[k] + t - s.c[k];
   return chi2Of(r, R * s.cov_p[k] * R.transpose() + s.cov_c[k]);
 }
 
-// MSAC: the cost of a motion is the sum of min(chi2, threshold). Plain inlier counting is not
-// enough: far points have large depth noise, so a motion that fits a moving object can also
-// keep most of the far background within its threshold and out-count the true motion.
+/// The same with the precomputed information matrix (for scoring many hypotheses).
+double fastChi2(const DepthSet& s, size_t k, const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
+  const Eigen::Vector3d r = R * s.p[k] + t - s.c[k];
+  return r.dot(s.info[k] * r);
+}
+
+// Hypotheses are ranked by a quantile (the median by default) of their chi2 values (LMedS),
+// not by inlier counts or a truncated cost (MSAC): the depth noise model is only roughly
+// right, and where it is too loose for the data, a motion that fits a near (precise) moving
+// object also keeps the far (noisy) background within its threshold, out-counting and
+// out-scoring the true motion. The median needs no noise scale: it picks the motion that fits
+// the better half of the points best, i.e. the background as long as it holds the majority.
+// The same quantile, compared with its value for chi2 with 3 dof, measures how much cleaner or
+// noisier the data are than the model (the noise scale the thresholds are multiplied by).
 struct Score {
-  int inliers = 0;
-  double cost = kInf;
-  bool betterThan(const Score& o) const { return cost < o.cost || (cost == o.cost && inliers > o.inliers); }
+  double value = kInf;  // the rank quantile of chi2 over the depth correspondences
+  double scale = 1.0;   // noise scale: value / expected value, clamped
+  int inliers = 0;      // chi2 below threshold * scale
+  bool betterThan(const Score& o) const { return value < o.value || (value == o.value && inliers > o.inliers); }
 };
 
-Score scoreMotion(const DepthSet& s, const SE3& T, double thr) {
+/// The q-quantile of chi2 with 3 degrees of freedom (Wilson-Hilferty; the normal quantile by bisection).
+double chi2Dof3Quantile(double q) {
+  double lo = -8, hi = 8;
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (0.5 * std::erfc(-mid / std::sqrt(2.0)) < q ? lo : hi) = mid;
+  }
+  const double z = 0.5 * (lo + hi), k = 3.0, a = 2.0 / (9.0 * k);
+  return k * std::pow(std::max(0.0, 1.0 - a + z * std::sqrt(a)), 3);
+}
+
+struct Ranking {
+  double quantile = 0.5;
+  double expected = 2.366;  // chi2Dof3Quantile(quantile)
+  double thr = 16.27;
+  double min_scale = 1, max_scale = 1;
+};
+
+Score scoreMotion(const DepthSet& s, const SE3& T, const Ranking& rk, std::vector<double>& scratch) {
   const Eigen::Matrix3d R = T.rotation();
   Score sc;
-  sc.cost = 0;
-  for (size_t k = 0; k < s.p.size(); ++k) {
-    const double e = setChi2(s, k, R, T.translation());
-    if (e < thr) ++sc.inliers;
-    sc.cost += std::min(e, thr);
-  }
+  scratch.resize(s.p.size());
+  for (size_t k = 0; k < s.p.size(); ++k) scratch[k] = fastChi2(s, k, R, T.translation());
+  const size_t rank = std::min(scratch.size() - 1, static_cast<size_t>(rk.quantile * scratch.size()));
+  std::nth_element(scratch.begin(), scratch.begin() + rank, scratch.end());
+  sc.value = scratch[rank];
+  sc.scale = std::clamp(sc.value / rk.expected, rk.min_scale, rk.max_scale);
+  const double thr = rk.thr * sc.scale;
+  for (double e : scratch) sc.inliers += e < thr;
   return sc;
+}
+
+/// Gauss-Newton on the Mahalanobis cost of the inliers of T (the full anisotropic covariances:
+/// the lateral precision of far points counts, their depth noise does not swamp it).
+SE3 refineMahalanobis(const DepthSet& s, SE3 T, double thr, int iterations) {
+  for (int it = 0; it < iterations; ++it) {
+    const Eigen::Matrix3d R = T.rotation();
+    Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
+    int used = 0;
+    for (size_t k = 0; k < s.p.size(); ++k) {
+      const Eigen::Vector3d q = R * s.p[k] + T.translation();
+      const Eigen::Vector3d r = q - s.c[k];
+      const Eigen::Matrix3d info = (R * s.cov_p[k] * R.transpose() + s.cov_c[k]).inverse();
+      if (r.dot(info * r) >= thr) continue;
+      Eigen::Matrix<double, 3, 6> J;
+      J << Eigen::Matrix3d::Identity(), -hat(q);  // d(exp(d) * q) / d[rho; phi] at 0
+      H += J.transpose() * info * J;
+      g += J.transpose() * info * r;
+      ++used;
+    }
+    if (used < 3) break;
+    const Eigen::Matrix<double, 6, 1> step = H.ldlt().solve(-g);
+    if (!step.allFinite()) break;
+    T = SE3::exp(step) * T;
+    if (step.norm() < 1e-9) break;
+  }
+  return T;
 }
 
 /// Weighted rigid refit on the inliers of T (weights: inverse positional variance).
@@ -63,7 +125,7 @@ std::optional<SE3> refitOnInliers(const DepthSet& s, const SE3& T, double thr) {
   std::vector<Eigen::Vector3d> a, b;
   std::vector<double> w;
   for (size_t k = 0; k < s.p.size(); ++k) {
-    if (setChi2(s, k, R, T.translation()) >= thr) continue;
+    if (fastChi2(s, k, R, T.translation()) >= thr) continue;
     a.push_back(s.p[k]);
     b.push_back(s.c[k]);
     w.push_back(1.0 / (s.cov_p[k] + s.cov_c[k]).trace());
@@ -77,9 +139,11 @@ std::optional<SE3> refitOnInliers(const DepthSet& s, const SE3& T, double thr) {
 bool nearPrior(const DepthSet& s, const SE3& T, const SE3& prior, const MotionCheckOptions& o) {
   const Eigen::Matrix3d dR = T.rotation() - prior.rotation();
   const Eigen::Vector3d dt = T.translation() - prior.translation();
-  double sum = 0;
-  for (const auto& p : s.p) sum += (dR * p + dt).squaredNorm();
-  return sum <= o.prior_max_displacement_m * o.prior_max_displacement_m * s.p.size();
+  const size_t stride = std::max<size_t>(1, s.p.size() / 64);  // a spread subset is enough
+  const double limit = o.prior_max_displacement_m * o.prior_max_displacement_m;
+  for (size_t k = 0; k < s.p.size(); k += stride)
+    if ((dR * s.p[k] + dt).squaredNorm() > limit) return false;
+  return true;
 }
 
 /// A minimal sample must be a proper triangle whose side lengths agree between the frames
@@ -204,6 +268,7 @@ MotionCheckResult checkMotionOnce(const std::vector<MotionCorrespondence>& corr,
     s.c.push_back(c.p_cur);
     s.cov_p.push_back(pointCovariance(cam, c.uv_prev, c.p_prev.z(), o.noise, c.pixel_sigma_scale));
     s.cov_c.push_back(pointCovariance(cam, c.uv_cur, c.p_cur.z(), o.noise, c.pixel_sigma_scale));
+    s.info.push_back((s.cov_p.back() + s.cov_c.back()).inverse());
   }
   const int n = static_cast<int>(s.p.size());
   res.with_depth = n;
@@ -219,23 +284,33 @@ MotionCheckResult checkMotionOnce(const std::vector<MotionCorrespondence>& corr,
   // RANSAC over minimal 3-point rigid fits.
   std::mt19937_64 rng(o.seed);
   Score best;
+  std::vector<double> scratch;
+  Ranking rk;
+  rk.quantile = std::clamp(prior ? o.prior_rank_quantile : o.rank_quantile, 0.05, 0.95);
+  rk.expected = chi2Dof3Quantile(rk.quantile);
+  rk.thr = o.chi2_3d;
+  if (o.adapt_noise_scale) {
+    rk.min_scale = o.min_noise_scale;
+    rk.max_scale = std::max(o.min_noise_scale, o.max_noise_scale);
+  }
   std::optional<SE3> best_T;
   int good_samples = 0;
   const double log_fail = std::log(1.0 - std::clamp(o.confidence, 0.5, 1.0 - 1e-12));
   int needed = o.max_iterations;
   auto consider = [&](const SE3& T, bool is_prior) {
     ++res.hypotheses;
-    Score sc = scoreMotion(s, T, o.chi2_3d);
+    Score sc = scoreMotion(s, T, rk, scratch);
     if (!sc.betterThan(best)) return;
     best = sc;
     best_T = T;
     res.prior_won = is_prior;
     // Local optimisation: minimal samples of noisy far points give rough motions; refits on
     // their inliers make a near-true hypothesis score as well as it deserves.
+    // (Inliers at most at the model's threshold: a poor hypothesis has a large noise scale.)
     for (int lo = 0; lo < o.refine_iterations; ++lo) {
-      const auto refit = refitOnInliers(s, *best_T, o.chi2_3d);
+      const auto refit = refitOnInliers(s, *best_T, rk.thr * std::min(best.scale, 1.0));
       if (!refit || (prior && !nearPrior(s, *refit, *prior, o))) break;
-      sc = scoreMotion(s, *refit, o.chi2_3d);
+      sc = scoreMotion(s, *refit, rk, scratch);
       if (!sc.betterThan(best)) break;
       best = sc;
       best_T = refit;
@@ -258,23 +333,31 @@ MotionCheckResult checkMotionOnce(const std::vector<MotionCorrespondence>& corr,
     ++good_samples;  // a proper triangle, rigid or not
     if (check == SampleCheck::kNotRigid) continue;
     const auto T = fitRigid({s.p[k[0]], s.p[k[1]], s.p[k[2]]}, {s.c[k[0]], s.c[k[1]], s.c[k[2]]});
+    if (!T || (prior && !nearPrior(s, *T, *prior, o))) continue;  // only hypotheses near the prior count
     ++iter;
-    if (!T) continue;
-    if (prior && !nearPrior(s, *T, *prior, o)) continue;
     consider(*T, false);
   }
   if (!best_T) {
     res.status = good_samples == 0 && !prior ? MotionCheckStatus::kDegenerate : MotionCheckStatus::kNoConsensus;
     return res;
   }
-
-  // The local optimisation has refitted the best hypothesis on its inliers already.
-  const SE3 T = *best_T;
-  const int count = best.inliers;
-  if (count >= 3 && !refitOnInliers(s, T, o.chi2_3d)) {
+  if (best.inliers >= 3 && !refitOnInliers(s, *best_T, rk.thr * best.scale)) {
     res.status = MotionCheckStatus::kDegenerate;  // the inliers are collinear
     return res;
   }
+
+  // Maximum-likelihood polish on the inliers, kept when it does not rank worse.
+  SE3 T = *best_T;
+  for (int round = 0; round < 2; ++round) {
+    const SE3 polished = refineMahalanobis(s, T, rk.thr * best.scale, o.refine_iterations + 2);
+    if (prior && !nearPrior(s, polished, *prior, o)) break;
+    const Score sc = scoreMotion(s, polished, rk, scratch);
+    if (sc.value > best.value * 1.05) break;
+    T = polished;
+    best = sc;
+  }
+  const int count = best.inliers;
+  res.noise_scale = best.scale;
   res.inliers = count;
   if (count < std::max(3, o.min_inliers) || count < o.min_inlier_ratio * n) {
     res.status = MotionCheckStatus::kNoConsensus;
@@ -296,8 +379,10 @@ MotionCheckResult checkMotionOnce(const std::vector<MotionCorrespondence>& corr,
     res.evidence[i] = MotionEvidence::kRigid3d;
     res.chi2[i] = setChi2(s, k, R, t);
     res.residual[i] = (R * s.p[k] + t - s.c[k]).norm();
-    res.moving[i] = res.chi2[i] >= o.chi2_3d;
+    res.moving[i] = res.chi2[i] >= o.chi2_3d * res.noise_scale;
   }
+  res.inliers = 0;  // with the exact covariances (scoring used the unrotated ones)
+  for (int k = 0; k < n; ++k) res.inliers += !res.moving[s.index[k]];
   for (int i = 0; i < n_all; ++i) {
     const auto& c = corr[i];
     if (res.evidence[i] != MotionEvidence::kNone || !c.uv_prev.allFinite() || !c.uv_cur.allFinite()) continue;
@@ -322,14 +407,14 @@ MotionCheckResult checkMotionOnce(const std::vector<MotionCorrespondence>& corr,
       const Eigen::Vector2d e = uv_obs - cam.projectIdeal(q);
       res.residual[i] = e.norm();
       res.chi2[i] = e.dot(cov.ldlt().solve(e));
-      res.moving[i] = res.chi2[i] >= o.chi2_2d;
+      res.moving[i] = res.chi2[i] >= o.chi2_2d * res.noise_scale;
     } else if (t.norm() >= o.min_epipolar_baseline_m) {
       const Eigen::Vector3d line = F * Eigen::Vector3d(c.uv_prev.x(), c.uv_prev.y(), 1.0);
       const double d = std::abs(line.dot(Eigen::Vector3d(c.uv_cur.x(), c.uv_cur.y(), 1.0))) / line.head<2>().norm();
       res.evidence[i] = MotionEvidence::kEpipolar;
       res.residual[i] = d;
       res.chi2[i] = d * d / (2 * sp * sp);
-      res.moving[i] = res.chi2[i] >= o.chi2_1d;
+      res.moving[i] = res.chi2[i] >= o.chi2_1d * res.noise_scale;
     } else {
       // Hardly any translation: the rotation alone predicts the pixel, up to the parallax
       // of the nearest plausible depth.
@@ -340,7 +425,7 @@ MotionCheckResult checkMotionOnce(const std::vector<MotionCorrespondence>& corr,
       const double excess = std::max(0.0, e - f * t.norm() / o.min_scene_depth_m);
       res.residual[i] = e;
       res.chi2[i] = excess * excess / (2 * sp * sp);
-      res.moving[i] = res.chi2[i] >= o.chi2_2d;
+      res.moving[i] = res.chi2[i] >= o.chi2_2d * res.noise_scale;
     }
   }
   return res;

@@ -1,24 +1,27 @@
-// Geometric evidence of motion between two adjacent frames: the camera motion is estimated
-// robustly from feature correspondences with depth (RANSAC over minimal 3-point rigid fits,
-// then a weighted refit on the inliers), and every correspondence that disagrees with it is
-// flagged as moving.
+// Geometric evidence of motion between two frames (adjacent, or a few apart for more
+// baseline): the camera motion is estimated robustly from the feature correspondences with
+// depth (RANSAC over minimal 3-point rigid fits with local refits, then a Gauss-Newton polish
+// on the inliers), and every correspondence that disagrees with it is flagged as moving.
 //
-// Residuals are tested against the sensor's noise, not a fixed distance: each 3D point gets
-// a covariance from its pixel noise (lateral, grows with z) and a Kinect-like depth noise
-// (along the ray, sigma_z = a z^2 + b), so a person walking across the view at 2 m
-// (3 cm/frame) stands out even though the depth noise alone is 1 cm there.
+// Residuals are tested against the sensor's noise, not a fixed distance: each 3D point gets a
+// covariance from its pixel noise (lateral, grows with z) and a Kinect-like depth noise (along
+// the ray, sigma_z = a z^2 + b), so a person walking across the view at 2 m (3 cm/frame)
+// stands out although the depth noise alone is 1.2 cm there. The thresholds are then scaled by
+// how much cleaner or noisier the data are than that model (a robust estimate, clamped).
 //
 // Correspondences without depth on one side are checked by reprojection, on neither side by
 // their epipolar distance (or, when the camera hardly translates, by rotation transfer).
 //
-// Majority assumption: RANSAC keeps the rigid motion with the most inliers. When a moving
-// object has more depth features than the static background, its motion wins and the
-// background is flagged instead (the tracker then sees most of its features rejected; its own
-// pose estimate against the map does not depend on this). A motion prior (the tracker's
-// motion-model prediction) guards against that: with one, hypotheses that put the scene's
-// points farther from where the prior puts them than its tolerance (2 cm RMS: less than a
-// walking person moves in a frame) are discarded and the prior itself is scored as a hypothesis. When nothing near the prior finds
-// consensus (a wrong prediction), the check is redone without it (prior_rejected).
+// Majority assumption: hypotheses are ranked by the median of their chi2 values over the depth
+// correspondences (LMedS), i.e. the motion that fits the better half of them best. When a
+// moving object holds more than half of the depth features, or when it is near and precise
+// while the background is far and noisy (its motion then fits the background within noise),
+// its motion can win and the background is flagged instead. A motion prior (the tracker's
+// motion-model prediction) guards against that: with one, hypotheses that move any depth
+// point more than 3 cm from where the prior puts it are discarded, the prior itself is a
+// hypothesis, and ranking uses the lower quartile (the background may be a minority). When
+// nothing near the prior finds consensus (a wrong prediction), the check is redone without
+// it (prior_rejected).
 //
 // Stateless and thread-safe.
 #pragma once
@@ -69,13 +72,18 @@ struct MotionCheckOptions {
   int min_inliers = 6;                ///< fewer inliers of the best motion: kNoConsensus
   double min_inlier_ratio = 0.2;      ///< inliers below this fraction of the depth correspondences: kNoConsensus
   int max_iterations = 500;           ///< RANSAC hypotheses at most
-  int min_iterations = 30;            ///< RANSAC hypotheses at least (before the adaptive stop)
+  int min_iterations = 50;            ///< RANSAC hypotheses at least (50: 99.9% for half outliers)
   double confidence = 0.999;          ///< adaptive stop: probability of drawing one all-inlier sample
   uint64_t seed = 42;                 ///< RANSAC random stream (deterministic results)
   double min_sample_side_m = 0.02;    ///< minimal samples need all three sides at least this long
   double min_sample_sine = 0.1;       ///< and a triangle this far from collinear (sine of its smallest angle)
+  double rank_quantile = 0.5;         ///< hypotheses are ranked by this quantile of their chi2 values (0.5: least median)
+  double prior_rank_quantile = 0.25;  ///< the quantile with a prior (it rules out the object's motion, so the background may be a minority)
+  bool adapt_noise_scale = true;      ///< scale the thresholds by how much cleaner/noisier the data are than the model (robust, from the rank quantile)
+  double min_noise_scale = 0.25;      ///< lower bound of that scale (exact synthetic depth would drive it to 0)
+  double max_noise_scale = 4.0;       ///< upper bound of that scale
   int refine_iterations = 3;          ///< weighted refits on the inliers of each new best hypothesis (local optimisation)
-  double prior_max_displacement_m = 0.02;  ///< with a prior: hypotheses that move the depth points (RMS) farther than this from where the prior puts them are discarded
+  double prior_max_displacement_m = 0.03;  ///< with a prior: hypotheses that move any depth point farther than this from where the prior puts it are discarded
   bool prior_fallback = true;         ///< with a prior and no consensus near it, retry without the prior
   double min_epipolar_baseline_m = 0.01;  ///< below this translation, no-depth features use rotation transfer
   double min_scene_depth_m = 0.4;     ///< nearest depth assumed for the parallax allowance of rotation transfer
@@ -106,13 +114,14 @@ struct MotionCheckResult {
   int with_depth = 0;                  ///< correspondences with depth in both frames
   int inliers = 0;                     ///< of those, consistent with T_cur_prev
   int hypotheses = 0;                  ///< RANSAC hypotheses scored
+  double noise_scale = 1.0;            ///< the chi2 thresholds were multiplied by this (see adapt_noise_scale)
   bool prior_used = false;             ///< a motion prior constrained the result
   bool prior_won = false;              ///< the prior itself had the best support
   bool prior_rejected = false;         ///< a prior was given but found no consensus (fallback result, or kNoConsensus)
   std::vector<uint8_t> moving;         ///< per correspondence: 1 = disagrees with the camera motion
   std::vector<MotionEvidence> evidence;  ///< per correspondence: how it was checked
   std::vector<double> residual;        ///< per correspondence: metres (kRigid3d) or pixels; NaN unchecked
-  std::vector<double> chi2;            ///< per correspondence: normalised squared residual; NaN unchecked
+  std::vector<double> chi2;            ///< per correspondence: squared Mahalanobis residual (model units); NaN unchecked
 
   bool ok() const { return status == MotionCheckStatus::kOk; }
   /// Correspondences with a usable check / flagged as moving.

@@ -333,6 +333,25 @@ TEST(DelaunayMotion, RigidSceneGivesNoRegion) {
   }
 }
 
+TEST(DelaunayMotion, WithoutCameraMotionMostlyBrokenEdgesFlagAnApproachingObject) {
+  CaseOptions o;
+  o.noise = true;
+  o.n_moving = 12;
+  o.object_px = cv::Rect(300, 200, 50, 50);
+  o.object_shift = Eigen::Vector3d(0, 0, -0.12);  // coming at the camera (0.1 s at 1.2 m/s)
+  o.object_yaw_deg = 0;
+  const Case c = makeCase(o);
+  MotionCheckResult failed = checkMotion(c.corr, c.cam);
+  failed.status = MotionCheckStatus::kNoConsensus;  // as if the check had failed
+  const DelaunayMotionResult d = analyseDelaunayMotion(c.corr, c.cam, {}, &failed);
+  EXPECT_EQ(d.status, DelaunayStatus::kNoReference);
+  EXPECT_FALSE(d.reference.has_value());
+  int cluster = 0, static_flagged = 0;
+  for (size_t i = 0; i < c.corr.size(); ++i) (c.moving[i] ? cluster : static_flagged) += d.moving[i];
+  EXPECT_GE(cluster, 0.8 * o.n_moving);
+  EXPECT_LT(static_flagged, 0.05 * o.n_static);
+}
+
 TEST(DelaunayMotion, TooFewPointsGiveAStatus) {
   const Case c = makeCase({});
   const std::vector<MotionCorrespondence> two(c.corr.begin(), c.corr.begin() + 2);
@@ -371,7 +390,7 @@ struct Fused {
 Fused fuse(const Case& c, const Segmentation* seg) {
   Fused f;
   f.motion = checkMotion(c.corr, c.cam);
-  f.delaunay = analyseDelaunayMotion(c.corr, c.cam, {}, f.motion.ok() ? std::optional<SE3>(f.motion.T_cur_prev) : std::nullopt);
+  f.delaunay = analyseDelaunayMotion(c.corr, c.cam, {}, &f.motion);
   DynamicEvidence ev;
   ev.correspondences = &c.corr;
   ev.motion = &f.motion;

@@ -77,17 +77,17 @@ Segmentation personsOf(const synth::RenderedFrame& f) {
   return s;
 }
 
-SceneStep runStep(const synth::Scene& scene, int i) {
+/// Frames i - gap + 1 (previous) and i + 1 (current).
+SceneStep runStep(const synth::Scene& scene, int i, int gap = 1) {
   SceneStep s;
-  s.prev = synth::render(scene, i);
+  s.prev = synth::render(scene, i + 1 - gap);
   s.cur = synth::render(scene, i + 1);
   s.corr = orbCorrespondences(scene, s.prev, s.cur);
   for (const auto& c : s.corr)
     s.instance.push_back(s.cur.instance_ids.at<uint16_t>(cvRound(c.uv_cur.y()), cvRound(c.uv_cur.x())));
   s.seg = personsOf(s.cur);
   s.motion = checkMotion(s.corr, scene.camera());
-  s.delaunay = analyseDelaunayMotion(s.corr, scene.camera(), {},
-                                     s.motion.ok() ? std::optional<SE3>(s.motion.T_cur_prev) : std::nullopt);
+  s.delaunay = analyseDelaunayMotion(s.corr, scene.camera(), {}, &s.motion);
   s.mask = fuseDynamicMask({&s.corr, &s.motion, &s.delaunay, &s.seg}, s.cur.depth_m.size());
   return s;
 }
@@ -126,18 +126,27 @@ TEST(MotionScene, WalkingPersonIsMaskedAndBackgroundKept) {
   const double kept = static_cast<double>(cv::countNonZero(s.mask.mask & background)) / cv::countNonZero(background);
   EXPECT_GE(kept, 0.95);
 
-  // Features: all on the person rejected, few of the background.
-  int static_features = 0, static_rejected = 0;
+  // Features: all on the person rejected; of the background, the true correspondences kept
+  // and the wrong ones (ORB mismatches, depth taken across a depth edge) mostly rejected.
+  int good = 0, good_rejected = 0, wrong = 0, wrong_rejected = 0;
   for (size_t i = 0; i < s.corr.size(); ++i) {
     if (s.instance[i] != 0) {
       EXPECT_TRUE(s.mask.feature_dynamic[i]) << "person feature " << i;
-    } else {
-      ++static_features;
-      static_rejected += s.mask.feature_dynamic[i];
+      continue;
     }
+    const auto& c = s.corr[i];
+    if (!c.hasDepthPrev() || !c.hasDepthCur()) continue;
+    const Eigen::Vector3d q = truth * c.p_prev;
+    const bool correct = (scene.camera().projectIdeal(q) - c.uv_cur).norm() < 2.0 * c.pixel_sigma_scale &&
+                         std::abs(q.z() - c.p_cur.z()) < 0.02 + 0.01 * q.z();
+    (correct ? good : wrong)++;
+    (correct ? good_rejected : wrong_rejected) += s.mask.feature_dynamic[i];
   }
-  ASSERT_GT(static_features, 100);
-  EXPECT_LT(static_rejected, 0.05 * static_features);
+  ASSERT_GT(good, 100);
+  EXPECT_LT(good_rejected, 0.05 * good);
+  if (wrong >= 5) {
+    EXPECT_GT(wrong_rejected, 0.7 * wrong) << wrong_rejected << " of " << wrong;
+  }
 }
 
 TEST(MotionScene, GeometryAloneFindsThePersonWithoutSegmentation) {
@@ -161,4 +170,21 @@ TEST(MotionScene, GeometryAloneFindsThePersonWithoutSegmentation) {
   const cv::Mat background = s.cur.instance_ids == 0;
   const double kept = static_cast<double>(cv::countNonZero(s.mask.mask & background)) / cv::countNonZero(background);
   EXPECT_GE(kept, 0.95);
+}
+
+TEST(MotionScene, ThreeFrameBaselineCatchesASlowWalkerUnderNoise) {
+  // Frames 228..231: the near person turns at the end of its path (about 0.3 m/s); with
+  // Kinect-like noise one frame of motion hides in the noise, three frames do not.
+  const synth::Scene scene = synth::makeScene(synth::SceneKind::kDynamic, synth::SceneOptions{});
+  const SceneStep s = runStep(scene, 230, 3);
+  ASSERT_EQ(s.motion.status, MotionCheckStatus::kOk);
+  const SE3 truth = s.cur.T_w_c.inverse() * s.prev.T_w_c;
+  EXPECT_LT((s.motion.T_cur_prev.translation() - truth.translation()).norm(), 0.01);
+  ASSERT_FALSE(s.mask.instances.empty());
+  const InstanceDecision& d = s.mask.instances.front();
+  EXPECT_EQ(d.instance_id, 1);
+  EXPECT_EQ(d.reason, InstanceDecisionReason::kMovingByGeometry) << d.moving << "/" << d.checked;
+  const cv::Mat person = s.cur.instance_ids > 0, background = s.cur.instance_ids == 0;
+  EXPECT_EQ(cv::countNonZero(s.mask.mask & person), 0);
+  EXPECT_GE(static_cast<double>(cv::countNonZero(s.mask.mask & background)) / cv::countNonZero(background), 0.95);
 }
