@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
+#include <sstream>
 
 #include "camera/camera_file.h"
 #include "commands.h"
@@ -29,6 +30,7 @@ int runRun(int argc, char** argv) {
       .option("segmenter", "instance masks: none, replay (the folder's masks/, as plslam synth writes), or a YOLOv8-seg .onnx file",
               "none")
       .option("classes", "class names file, one a line, in the model's order (default: the COCO names)")
+      .option("dynamic-classes", "comma-separated class names that may move (default: person, animals, vehicles)")
       .flag("allow-missing-model", "if the model cannot be used, warn and go on with the geometric checks only")
       .flag("no-dynamic", "no rejection of moving objects at all")
       .flag("print-config", "print the effective configuration and exit")
@@ -56,6 +58,13 @@ int runRun(int argc, char** argv) {
     options.segmenter.yolo.model_path = segmenter;
   }
   options.segmenter.classes_file = args.str("classes");
+  if (args.has("dynamic-classes")) {
+    std::vector<std::string> names;
+    std::stringstream list(args.str("dynamic-classes"));
+    for (std::string name; std::getline(list, name, ',');)
+      if (!name.empty()) names.push_back(name);
+    options.segmenter.dynamic_classes = names;
+  }
   options.segmenter.allow_missing_model = args.has("allow-missing-model");
   if (args.has("print-config")) {
     std::cout << table.toYaml("plslam run: effective configuration");
