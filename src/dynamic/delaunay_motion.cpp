@@ -127,10 +127,33 @@ DelaunayMotionResult analyseDelaunayMotion(const std::vector<MotionCorrespondenc
   for (int i : nodes)
     if (incident[i] > 0) res.broken_fraction[i] = static_cast<float>(broken_incident[i]) / incident[i];
 
-  // 4. Moving features.
-  for (int i : nodes) {
-    if (res.reference) res.moving[i] = motion->moving[i];
-    else res.moving[i] = incident[i] > 0 && res.broken_fraction[i] > o.broken_fraction;
+  // 4. Moving features: the check's flags; without a camera motion, the features cut off from
+  // the largest group of features that keep their mutual edges (and from any other group that
+  // large: the background split by an object).
+  if (res.reference) {
+    for (int i : nodes) res.moving[i] = motion->moving[i];
+  } else {
+    // Groups over rigid triangles (three kept edges): single kept edges leak more, as a point
+    // moving across an edge keeps its length.
+    UnionFind together(n_all);
+    std::unordered_set<int64_t> kept;
+    for (const auto& e : res.edges)
+      if (!e.broken) kept.insert(edgeKey(e.a, e.b));
+    std::vector<cv::Vec6f> triangles;
+    subdiv.getTriangleList(triangles);
+    for (const auto& t : triangles) {
+      const int v[3] = {lookup(t[0], t[1]), lookup(t[2], t[3]), lookup(t[4], t[5])};
+      if (v[0] < 0 || v[1] < 0 || v[2] < 0) continue;
+      if (!kept.count(edgeKey(v[0], v[1])) || !kept.count(edgeKey(v[1], v[2])) || !kept.count(edgeKey(v[0], v[2]))) continue;
+      together.unite(v[0], v[1]);
+      together.unite(v[0], v[2]);
+    }
+    std::map<int, int> size_of;
+    for (int i : nodes) ++size_of[together.find(i)];
+    int largest = 0;
+    for (const auto& [root, size] : size_of) largest = std::max(largest, size);
+    const double static_size = std::min<double>(largest, o.static_group_fraction * nodes.size());
+    for (int i : nodes) res.moving[i] = size_of[together.find(i)] < static_size;
   }
 
   // 5. Regions: moving features joined by kept edges.

@@ -6,12 +6,14 @@
 //  1. Camera motion: the geometric check's result (given, or run here).
 //  2. Edge test: an edge is broken when its 3D length change exceeds the noise of the two
 //     lengths (the point covariances of motion_check.h, chi2 with 1 dof).
-//  3. Moving features: with a camera motion, the check's flags; without one (kNoReference),
-//     the features whose edges are mostly broken. Edge lengths alone are not trusted to
-//     decide or to join a moving object to the background: an object crossing the view in
-//     front of a farther wall changes the lengths of its edges to the wall very little (they
-//     point along the depth, where the noise is largest); in the tests about half of such
-//     edges stay within the noise.
+//  3. Moving features: with a camera motion, the check's flags. Without one (kNoReference, a
+//     weak fallback), the features outside the largest group joined by rigid triangles (three
+//     kept edges), or any group holding static_group_fraction of the features. "Most incident
+//     edges broken" alone would only catch isolated points: inside an object most edges join
+//     it to itself. Edge lengths are the weaker evidence: an object crossing the view in front
+//     of a farther wall changes the lengths of its edges to the wall very little (they point
+//     along the depth, where the noise is largest); in the tests a third to a half of such
+//     edges stay within the noise, and a few kept ones join the object to the background.
 //  4. Regions: moving features joined by kept edges (they move rigidly together), with the
 //     convex hull of their current pixels.
 //
@@ -32,14 +34,14 @@ namespace plslam {
 struct DelaunayMotionOptions {
   MotionCheckOptions motion;       ///< noise model of the edge test; the geometric check when none is given
   double chi2_length = 10.83;      ///< edge broken when (length change)^2 / variance exceeds this (1 dof, 99.9%)
-  double broken_fraction = 0.5;    ///< without a reference, a feature moves when more of its edges than this are broken
+  double static_group_fraction = 0.3;  ///< without a camera motion, rigid groups with this fraction of the features, and the largest, are static
   int min_region_features = 3;     ///< moving regions smaller than this are not reported (their features stay flagged)
 };
 
 enum class DelaunayStatus {
-  kOk,             ///< graph built, reference motion available
+  kOk,             ///< graph built, camera motion available
   kTooFewPoints,   ///< fewer than 3 correspondences with depth inside the image: no graph
-  kNoReference,    ///< no camera motion (the check failed): moving = mostly broken edges (length test)
+  kNoReference,    ///< no camera motion (the check failed): moving = cut off by broken edges (length test only)
 };
 const char* delaunayStatusName(DelaunayStatus status);
 

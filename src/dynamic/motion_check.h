@@ -30,7 +30,6 @@
 #include <cmath>
 #include <cstdint>
 #include <optional>
-#include <string>
 #include <vector>
 
 #include "camera/pinhole_camera.h"
@@ -44,7 +43,7 @@ struct MotionCorrespondence {
   Eigen::Vector2d uv_cur{0, 0};   ///< ideal pixel in the current frame
   Eigen::Vector3d p_prev{NAN, NAN, NAN};  ///< point in the previous camera frame from depth; NaN: no depth
   Eigen::Vector3d p_cur{NAN, NAN, NAN};   ///< point in the current camera frame from depth; NaN: no depth
-  /// Multiplies MotionCheckOptions::pixel_sigma for this feature (e.g. the ORB level's scale factor).
+  /// Multiplies PointNoiseOptions::pixel_sigma for this feature (e.g. the ORB level's scale factor).
   double pixel_sigma_scale = 1.0;
 
   bool hasDepthPrev() const { return p_prev.allFinite() && p_prev.z() > 0; }
@@ -140,7 +139,7 @@ std::optional<SE3> fitRigid(const std::vector<Eigen::Vector3d>& src, const std::
                             const std::vector<double>& weights = {});
 
 /// Squared Mahalanobis distance of the 3D residual T * p_prev - p_cur of a correspondence
-/// with depth in both frames (the test checkMotion applies).
+/// with depth in both frames, in model units (checkMotion flags chi2 >= chi2_3d * noise_scale).
 double rigidChi2(const MotionCorrespondence& c, const SE3& T_cur_prev, const PinholeCamera& camera,
                  const PointNoiseOptions& noise);
 

@@ -333,23 +333,28 @@ TEST(DelaunayMotion, RigidSceneGivesNoRegion) {
   }
 }
 
-TEST(DelaunayMotion, WithoutCameraMotionMostlyBrokenEdgesFlagAnApproachingObject) {
-  CaseOptions o;
-  o.noise = true;
-  o.n_moving = 12;
-  o.object_px = cv::Rect(300, 200, 50, 50);
-  o.object_shift = Eigen::Vector3d(0, 0, -0.12);  // coming at the camera (0.1 s at 1.2 m/s)
-  o.object_yaw_deg = 0;
-  const Case c = makeCase(o);
-  MotionCheckResult failed = checkMotion(c.corr, c.cam);
-  failed.status = MotionCheckStatus::kNoConsensus;  // as if the check had failed
-  const DelaunayMotionResult d = analyseDelaunayMotion(c.corr, c.cam, {}, &failed);
-  EXPECT_EQ(d.status, DelaunayStatus::kNoReference);
-  EXPECT_FALSE(d.reference.has_value());
-  int cluster = 0, static_flagged = 0;
-  for (size_t i = 0; i < c.corr.size(); ++i) (c.moving[i] ? cluster : static_flagged) += d.moving[i];
-  EXPECT_GE(cluster, 0.8 * o.n_moving);
-  EXPECT_LT(static_flagged, 0.05 * o.n_static);
+TEST(DelaunayMotion, WithoutCameraMotionAnObjectCutOffByBrokenEdgesIsFound) {
+  // The fallback when the geometric check failed: only edge lengths. It finds an object whose
+  // edges to the background all break (here one coming at the camera), and flags nothing in a
+  // rigid scene; an object still joined by a few kept edges is missed (see delaunay_motion.h).
+  for (bool moving : {true, false}) {
+    CaseOptions o;
+    o.n_moving = 12;
+    o.object_px = cv::Rect(300, 200, 50, 50);
+    o.object_shift = Eigen::Vector3d(0, 0, moving ? -0.3 : 0.0);
+    o.object_yaw_deg = 0;
+    const Case c = makeCase(o);
+    MotionCheckResult failed = checkMotion(c.corr, c.cam);
+    failed.status = MotionCheckStatus::kNoConsensus;  // as if the check had failed
+    const DelaunayMotionResult d = analyseDelaunayMotion(c.corr, c.cam, {}, &failed);
+    EXPECT_EQ(d.status, DelaunayStatus::kNoReference);
+    EXPECT_FALSE(d.reference.has_value());
+    int cluster = 0, static_flagged = 0;
+    for (size_t i = 0; i < c.corr.size(); ++i) (c.moving[i] ? cluster : static_flagged) += d.moving[i];
+    EXPECT_EQ(cluster, moving ? o.n_moving : 0);
+    EXPECT_EQ(static_flagged, 0);
+    EXPECT_EQ(d.regions.size(), moving ? 1u : 0u);
+  }
 }
 
 TEST(DelaunayMotion, TooFewPointsGiveAStatus) {
