@@ -139,9 +139,11 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
   // Adjacent-frame correspondences: each previous keypoint searched around its old position.
   std::vector<MotionCorrespondence> corr;
   std::vector<int> corr_keypoint;
-  if (have_previous_ && !f->points.empty() && !previous_.points.empty()) {
+  const int gap = previous_.empty() ? 0 : static_cast<int>(previous_.size());
+  const FrameFeatures* before = previous_.empty() ? nullptr : &previous_.front();
+  if (before && !f->points.empty() && !before->points.empty()) {
     std::vector<PointPrediction> predictions;
-    for (const Keypoint& k : previous_.points) predictions.push_back({k.uv, -1});
+    for (const Keypoint& k : before->points) predictions.push_back({k.uv, -1});
     std::vector<Eigen::Vector2d> uv;
     for (const Keypoint& k : f->points) uv.push_back(k.uv);
     PointProjectionOptions po;
@@ -150,8 +152,8 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
     po.octave_window = -1;
     const PointGrid grid(uv, camera_.width, camera_.height);
     for (const DescriptorMatch& m :
-         matchPointsByProjection(predictions, previous_.point_descriptors, grid, {}, f->point_descriptors, po)) {
-      const Keypoint& a = previous_.points[m.query];
+         matchPointsByProjection(predictions, before->point_descriptors, grid, {}, f->point_descriptors, po)) {
+      const Keypoint& a = before->points[m.query];
       const Keypoint& b = f->points[m.train];
       MotionCorrespondence c;
       c.uv_prev = a.uv;
@@ -163,10 +165,15 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
       corr_keypoint.push_back(m.train);
     }
   }
-  previous_ = *f;
-  have_previous_ = true;
+  previous_.push_back(*f);
+  while (static_cast<int>(previous_.size()) > std::max(1, options_.compare_gap)) previous_.pop_front();
 
-  const MotionCheckResult motion = checkMotion(corr, camera_, options_.motion, prior_T_cur_prev);
+  std::optional<SE3> prior;
+  if (prior_T_cur_prev) {
+    prior = SE3();
+    for (int i = 0; i < gap; ++i) prior = *prior_T_cur_prev * *prior;
+  }
+  const MotionCheckResult motion = checkMotion(corr, camera_, options_.motion, prior);
   r.motion_status = motion.status;
   const DelaunayMotionResult delaunay = analyseDelaunayMotion(corr, camera_, options_.delaunay, &motion);
   DynamicEvidence evidence;

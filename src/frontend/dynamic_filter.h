@@ -13,6 +13,7 @@
 #pragma once
 
 #include <condition_variable>
+#include <deque>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -31,6 +32,8 @@ namespace plslam {
 struct DynamicFilterOptions {
   bool enabled = true;             ///< reject dynamic features at all
   int segment_every = 3;           ///< segment every this many frames (1 = every frame)
+  int compare_gap = 3;             ///< check motion against the frame this many frames back (a slow walker
+                                   ///< moves too little between adjacent 30 Hz frames to be seen)
   double match_radius_px = 40.0;   ///< search radius for the previous frame's keypoints
   int match_max_distance = 60;     ///< ORB Hamming distance accepted between adjacent frames
   double line_masked_fraction = 0.3;  ///< lines with more than this fraction of samples on dynamic pixels are removed
@@ -63,7 +66,8 @@ class DynamicFilter {
   DynamicFilter& operator=(const DynamicFilter&) = delete;
 
   /// Filters `features` (extracted from `frame`) in place. `prior_T_cur_prev` is the
-  /// tracker's predicted motion since the previous frame, when it has one.
+  /// tracker's predicted motion since the previous frame, when it has one (the motion over
+  /// compare_gap frames is predicted from it at constant velocity).
   DynamicFrameResult process(const RgbdFrame& frame, FrameFeatures* features, const std::optional<SE3>& prior_T_cur_prev);
 
  private:
@@ -74,8 +78,7 @@ class DynamicFilter {
   DynamicFilterOptions options_;
   std::unique_ptr<Segmenter> segmenter_;
   bool asynchronous_;
-  FrameFeatures previous_;
-  bool have_previous_ = false;
+  std::deque<FrameFeatures> previous_;  // the last compare_gap frames' features, oldest first
   int frame_count_ = 0;
   Segmentation latest_;
   int latest_frame_ = -1;  // frame_count_ of the frame latest_ was computed on

@@ -37,6 +37,7 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
   DynamicFilterOptions& d = o->dynamic;
   t->bind("dynamic.enabled", &d.enabled, "reject features on moving objects (geometry, Delaunay graph, instance masks)");
   t->bind("dynamic.segment_every", &d.segment_every, "segment every this many frames");
+  t->bind("dynamic.compare_gap", &d.compare_gap, "check motion against the frame this many frames back");
   t->bind("dynamic.match_radius_px", &d.match_radius_px, "search radius for adjacent-frame keypoint matches (px)");
   t->bind("dynamic.moving_fraction", &d.mask.moving_fraction, "an instance moves when this fraction of its checked features move");
   t->bind("dynamic.min_checked_features", &d.mask.min_checked_features, "fewer checked features: the class prior decides");
