@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/json.h"
 #include "core/log.h"
 #include "io/trajectory_file.h"
 
@@ -29,28 +30,6 @@ std::string num(double v) {
   char buf[64];
   std::snprintf(buf, sizeof(buf), "%.10g", v);
   return buf;
-}
-
-std::string jsonString(const std::string& s) {
-  std::string out = "\"";
-  for (const char c : s) {
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
-      case '\r': out += "\\r"; break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof(buf), "\\u%04x", c);
-          out += buf;
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out + "\"";
 }
 
 std::vector<double> seconds(const Trajectory& traj) {
@@ -201,8 +180,8 @@ std::string toJson(const EvalResult& r) {
   const Eigen::Vector3d t = r.ate.T_gt_est.translation();
   const Eigen::Quaterniond q = r.ate.T_gt_est.quaternion();
   std::ostringstream os;
-  os << "{\"pairs\": " << r.ate.pairs.size() << ", \"gt_file\": " << jsonString(r.gt_name)
-     << ", \"est_file\": " << jsonString(r.est_name) << ", \"gt_poses\": " << r.gt_poses
+  os << "{\"pairs\": " << r.ate.pairs.size() << ", \"gt_file\": " << jsonQuote(r.gt_name)
+     << ", \"est_file\": " << jsonQuote(r.est_name) << ", \"gt_poses\": " << r.gt_poses
      << ", \"est_poses\": " << r.est_poses << ",\n \"ate\": {\"rmse\": " << num(a.rmse) << ", \"mean\": " << num(a.mean)
      << ", \"median\": " << num(a.median) << ", \"std\": " << num(a.std) << ", \"min\": " << num(a.min)
      << ", \"max\": " << num(a.max) << ", \"T_gt_est\": [" << num(t.x()) << ", " << num(t.y()) << ", " << num(t.z())

@@ -31,28 +31,6 @@ void loadRunConfig(const std::string& config_path, SystemOptions* options, Optio
   if (!config_path.empty()) table->apply(parseYamlSubset(readTextFile(config_path), config_path), config_path);
 }
 
-std::string jsonQuote(const std::string& text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
-      case '\r': out += "\\r"; break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof(buf), "\\u%04x", c);
-          out += buf;
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out + "\"";
-}
-
 SigintGuard::SigintGuard() {
   g_interrupted = false;
   previous_ = std::signal(SIGINT, onSigint);

@@ -7,6 +7,7 @@
 #include <functional>
 #include <string>
 
+#include "core/json.h"
 #include "core/option_table.h"
 #include "core/trajectory.h"
 #include "eval/trajectory_eval.h"
@@ -21,8 +22,6 @@ std::string readTextFile(const std::string& path);
 /// Binds `options` into `table` and applies the YAML file `config_path` (none when empty).
 void loadRunConfig(const std::string& config_path, SystemOptions* options, OptionTable* table);
 
-/// `text` as a JSON string literal (quotes included, escapes applied).
-std::string jsonQuote(const std::string& text);
 
 /// While an instance lives, Ctrl-C sets interrupted() instead of ending the process; the
 /// previous handler is restored on destruction. One instance at a time.
