@@ -21,15 +21,8 @@ struct CliRun {
 };
 
 CliRun run(const std::string& args) {
-  const std::string cmd = test::binaryDir() + "/plslam eval " + args;
-  CliRun r;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  for (size_t n; (n = fread(buf, 1, sizeof(buf), p)) > 0;) r.out.append(buf, n);
-  const int st = pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
+  const test::CommandResult r = test::runPlslam("eval " + args, false);
+  return {r.status, r.output};
 }
 
 /// The number after "key": at or after `from` in a JSON text; NaN when absent.

@@ -35,9 +35,9 @@ std::string scratchDir(const std::string& tag) {
   return dir.string();
 }
 
-CommandResult runCommand(const std::string& command) {
+CommandResult runCommand(const std::string& command, bool with_stderr) {
   CommandResult r;
-  FILE* p = popen((command + " 2>&1").c_str(), "r");
+  FILE* p = popen((with_stderr ? command + " 2>&1" : command).c_str(), "r");
   if (!p) return r;
   char buf[4096];
   for (size_t n; (n = fread(buf, 1, sizeof(buf), p)) > 0;) r.output.append(buf, n);
@@ -46,7 +46,9 @@ CommandResult runCommand(const std::string& command) {
   return r;
 }
 
-CommandResult runPlslam(const std::string& arguments) { return runCommand(binaryDir() + "/plslam " + arguments); }
+CommandResult runPlslam(const std::string& arguments, bool with_stderr) {
+  return runCommand(binaryDir() + "/plslam " + arguments, with_stderr);
+}
 
 std::string readFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

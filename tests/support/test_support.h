@@ -36,10 +36,10 @@ struct CommandResult {
   int status = -1;     ///< exit code; -1 when it did not exit normally
   std::string output;  ///< stdout and stderr together
 };
-/// Runs `command` through the shell, capturing stdout and stderr.
-CommandResult runCommand(const std::string& command);
+/// Runs `command` through the shell, capturing stdout (and stderr with `with_stderr`).
+CommandResult runCommand(const std::string& command, bool with_stderr = true);
 /// Runs the built `plslam` with `arguments`.
-CommandResult runPlslam(const std::string& arguments);
+CommandResult runPlslam(const std::string& arguments, bool with_stderr = true);
 /// The whole content of a file ("" when it cannot be read).
 std::string readFile(const std::string& path);
 }  // namespace plslam::test
