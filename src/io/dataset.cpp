@@ -15,6 +15,7 @@
 #include "core/log.h"
 #include "io/associate.h"
 #include "io/trajectory_file.h"
+#include "io/tum_line.h"
 
 namespace fs = std::filesystem;
 
@@ -41,17 +42,11 @@ std::vector<ListItem> readList(const std::string& path, size_t min_fields, const
   int lineno = 0, skipped = 0;
   while (std::getline(in, line)) {
     ++lineno;
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::replace(line.begin(), line.end(), '\t', ' ');
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    const size_t b = line.find_first_not_of(' ');
-    if (b == std::string::npos || line[b] == '#') continue;
-    std::istringstream is(line);
-    std::string stamp;
-    is >> stamp;
+    std::vector<std::string> f;
+    if (!splitTumLine(line, &f)) continue;
     ListItem item;
-    for (std::string tok; is >> tok;) item.fields.push_back(tok);
-    bool ok = item.fields.size() >= min_fields && parseSecondsStamp(stamp, &item.t_ns);
+    item.fields.assign(f.begin() + 1, f.end());
+    bool ok = item.fields.size() >= min_fields && parseSecondsStamp(f[0], &item.t_ns);
     for (size_t k : stamp_fields) {
       TimeNs unused = 0;
       ok = ok && parseSecondsStamp(item.fields[k], &unused);

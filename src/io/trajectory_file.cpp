@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "io/tum_line.h"
 #include "core/atomic_file.h"
 
 namespace plslam {
@@ -35,15 +36,9 @@ Trajectory readTumTrajectory(const std::string& path, TrajectoryReadReport* repo
   int lineno = 0;
   while (std::getline(in, line)) {
     ++lineno;
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::replace(line.begin(), line.end(), '\t', ' ');
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    const size_t b = line.find_first_not_of(' ');
-    if (b == std::string::npos || line[b] == '#') continue;
-    ++r.lines_read;
-    std::istringstream is(line);
     std::vector<std::string> f;
-    for (std::string tok; is >> tok;) f.push_back(tok);
+    if (!splitTumLine(line, &f)) continue;
+    ++r.lines_read;
     double v[8];
     bool ok = f.size() == 8;
     for (int i = 0; ok && i < 8; ++i) ok = toDouble(f[i], &v[i]);
