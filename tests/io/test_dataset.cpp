@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "camera/camera_file.h"
 #include "io/dataset.h"
 #include "support/test_support.h"
 
@@ -431,16 +432,8 @@ size_t referenceAssociationCount(const std::string& rgb_txt, const std::string& 
 TEST(DatasetReal, Fr1XyzFirst200Frames) {
   PLSLAM_REQUIRE_SHARED("data/tum/fr1_xyz_0-199");
   const std::string dir = test::sharedDir() + "/data/tum/fr1_xyz_0-199";
-  PinholeCamera cam;
-  cam.name = "tum_freiburg1";
-  cam.width = 640;
-  cam.height = 480;
-  cam.fx = 517.3;
-  cam.fy = 516.5;
-  cam.cx = 318.6;
-  cam.cy = 255.3;
-  cam.dist = {0.2624, -0.9531, -0.0054, 0.0026, 1.1633};
-  cam.depth_scale = 5000;
+  // The shipped camera file, so the test reads the data the way users do.
+  const PinholeCamera cam = loadCameraFile(test::sourceDir() + "/calib/tum_freiburg1.xml");
 
   TumDataset ds = TumDataset::open(dir, cam);
   EXPECT_EQ(ds.size(), referenceAssociationCount(dir + "/rgb.txt", dir + "/depth.txt"));

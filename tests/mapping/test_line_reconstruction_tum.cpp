@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "camera/camera_file.h"
 #include "core/time.h"
 #include "mapping/line_reconstruction.h"
 #include "support/test_support.h"
@@ -39,19 +40,7 @@ std::vector<Stamped> readList(const std::string& file) {
   return out;
 }
 
-PinholeCamera freiburg1() {
-  PinholeCamera cam;
-  cam.name = "tum_freiburg1";
-  cam.width = 640;
-  cam.height = 480;
-  cam.fx = 517.3;
-  cam.fy = 516.5;
-  cam.cx = 318.6;
-  cam.cy = 255.3;
-  cam.dist = {0.2624, -0.9531, -0.0054, 0.0026, 1.1633};
-  cam.depth_scale = 5000.0;
-  return cam;
-}
+PinholeCamera freiburg1() { return loadCameraFile(test::sourceDir() + "/calib/tum_freiburg1.xml"); }
 
 TEST(LineReconstructionTum, FittingBuildsMoreLinesThanEndpointsOnFr1Xyz) {
   PLSLAM_REQUIRE_SHARED("data/tum/fr1_xyz_0-199");
