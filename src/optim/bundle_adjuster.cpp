@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "optim/cost_functions.h"
+#include "optim/observation_terms.h"
 
 namespace plslam {
 
@@ -96,26 +97,20 @@ BundleResult LocalBundleAdjuster::adjust(const PinholeCamera& camera, const Bund
 
   // Costs; `active` (stable storage, points then lines) switches outliers off in pass 2.
   std::vector<std::uint8_t> active(npo + nlo, 0);
-  std::vector<PointTerm<2>> mono(npo);
-  std::vector<PointTerm<3>> rgbd(npo);
-  std::vector<bool> has_depth(npo, false);
-  std::vector<LineTerm> line_terms(nlo);
-  std::vector<bool> line_ok(nlo, false);
+  ObservationTerms terms(npo, nlo);
   for (size_t i = 0; i < npo; ++i) {
     const auto& o = problem.point_obs[i];
-    const double inv_sigma = 1.0 / model.pixelSigma(o.octave);
-    has_depth[i] = model.hasDepth(o.depth);
-    if (has_depth[i])
-      rgbd[i] = {K, o.uv, inv_sigma, o.depth, 1.0 / model.depthSigma(o.depth), model.min_depth};
-    else
-      mono[i] = {K, o.uv, inv_sigma, 0.0, 0.0, model.min_depth};
+    terms.setPoint(i, K, model, o.uv, o.octave, o.depth);
   }
   for (size_t i = 0; i < nlo; ++i) {
     const auto& o = problem.line_obs[i];
-    LineTerm& t = line_terms[i];
-    line_ok[i] = normalisedLine(o.p, o.q, &t.l);
-    t.K = K, t.inv_sigma = 1.0 / model.pixelSigma(o.octave), t.min_depth = model.min_depth;
+    terms.setLine(i, K, model, o.p, o.q, o.octave);
   }
+  const auto& mono = terms.mono;
+  const auto& rgbd = terms.rgbd;
+  const auto& has_depth = terms.has_depth;
+  const auto& line_terms = terms.lines;
+  const auto& line_ok = terms.line_ok;
 
   // Whitened chi2 of one observation at the current values; false when it cannot be projected.
   auto pointChi2 = [&](size_t i, double* chi2) {

@@ -12,6 +12,7 @@
 #include "core/log.h"
 
 #include "optim/cost_functions.h"
+#include "optim/observation_terms.h"
 
 namespace plslam {
 
@@ -57,27 +58,20 @@ PoseOnlyResult PoseOptimizer::optimize(const PinholeCamera& camera, const PoseOn
   // Per-observation terms; `active` (stable storage, points first, then lines) switches
   // outliers off between rounds.
   std::vector<std::uint8_t> active(n_points + n_lines, 0);
-  std::vector<PointTerm<2>> mono(n_points);
-  std::vector<PointTerm<3>> rgbd(n_points);
-  std::vector<bool> has_depth(n_points, false);
-  std::vector<LineTerm> line_terms(n_lines);
-  std::vector<bool> line_ok(n_lines, false);
-
+  ObservationTerms terms(n_points, n_lines);
   for (size_t i = 0; i < n_points; ++i) {
     const PointObs& o = problem.points[i];
-    const double inv_sigma = 1.0 / model.pixelSigma(o.octave);
-    has_depth[i] = model.hasDepth(o.depth);
-    if (has_depth[i])
-      rgbd[i] = {K, o.uv, inv_sigma, o.depth, 1.0 / model.depthSigma(o.depth), model.min_depth};
-    else
-      mono[i] = {K, o.uv, inv_sigma, 0.0, 0.0, model.min_depth};
+    terms.setPoint(i, K, model, o.uv, o.octave, o.depth);
   }
   for (size_t i = 0; i < n_lines; ++i) {
     const LineObs& o = problem.lines[i];
-    LineTerm& t = line_terms[i];
-    line_ok[i] = normalisedLine(o.p, o.q, &t.l);
-    t.K = K, t.inv_sigma = 1.0 / model.pixelSigma(o.octave), t.min_depth = model.min_depth;
+    terms.setLine(i, K, model, o.p, o.q, o.octave);
   }
+  const auto& mono = terms.mono;
+  const auto& rgbd = terms.rgbd;
+  const auto& has_depth = terms.has_depth;
+  const auto& line_terms = terms.lines;
+  const auto& line_ok = terms.line_ok;
   // Whitened chi2 of an observation at the current pose; false when it cannot be projected.
   auto pointChi2 = [&](size_t i, double* chi2) {
     double r[3] = {0, 0, 0};
