@@ -92,7 +92,7 @@ TrackingResult Tracker::track(TimeNs t_ns, const FrameFeatures& f) {
   have_velocity_ = true;
   T_w_last_ = T_w_c;
   ++frames_since_kf_;
-  if (needKeyframe(T_w_c, r.inliers, f, m)) {
+  if (needKeyframe(T_w_c, r.inliers)) {
     r.keyframe_id = makeKeyframe(t_ns, T_w_c, f, m);
     r.new_keyframe = true;
   }
@@ -339,7 +339,7 @@ bool Tracker::relocalise(const FrameFeatures& f, SE3* T_w_c, Matches* m) {
   return false;
 }
 
-bool Tracker::needKeyframe(const SE3& T_w_c, int inliers, const FrameFeatures& /*f*/, const Matches& /*m*/) const {
+bool Tracker::needKeyframe(const SE3& T_w_c, int inliers) const {
   if (frames_since_kf_ < options_.keyframe_min_frames) return false;
   if (frames_since_kf_ >= options_.keyframe_max_frames) return true;
   if (inliers < options_.keyframe_min_inliers) return true;

@@ -107,7 +107,7 @@ class Tracker {
   void searchLocalMap(const SE3& T_w_c, const FrameFeatures& f, double radius, Matches* m, bool count_visible);
   PoseOnlyResult optimise(const SE3& T_w_c, const FrameFeatures& f, Matches* m) const;
   bool relocalise(const FrameFeatures& f, SE3* T_w_c, Matches* m);
-  bool needKeyframe(const SE3& T_w_c, int inliers, const FrameFeatures& f, const Matches& m) const;
+  bool needKeyframe(const SE3& T_w_c, int inliers) const;
   Id makeKeyframe(TimeNs t_ns, const SE3& T_w_c, const FrameFeatures& f, const Matches& m);
 
   Map* map_;
