@@ -8,9 +8,11 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <opencv2/core.hpp>
+#include <string>
 #include <vector>
 
 #include "core/se3.h"
@@ -45,6 +47,25 @@ struct FrameFeatures {
   cv::Mat line_descriptors;
 };
 
+/// A segmented object instance seen in a keyframe: semantic maps and loop closure use them.
+struct KeyframeInstance {
+  int class_id = -1;       ///< class index in the segmenter's class list (COCO: 0 person)
+  std::string class_name;
+  bool dynamic = false;    ///< judged moving in this keyframe (its pixels are kept out of the map)
+  cv::Rect box;            ///< bounding box, image pixels
+  int pixels = 0;          ///< mask area, pixels
+  /// Median 3D position of its pixels with depth, in the keyframe's camera frame (NaN: no depth).
+  Eigen::Vector3d centroid_c = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+};
+
+/// One point of a keyframe's dense cloud, in the keyframe's camera frame (so a corrected
+/// keyframe pose moves its cloud with it).
+struct DensePoint {
+  Eigen::Vector3f p_c = Eigen::Vector3f::Zero();
+  uint8_t r = 0, g = 0, b = 0;
+  int16_t class_id = -1;   ///< semantic class of the pixel (-1: no instance)
+};
+
 struct KeyFrame {
   Id id = kNoId;
   TimeNs t_ns = 0;
@@ -53,6 +74,8 @@ struct KeyFrame {
   std::vector<Id> point_ids;  ///< per keypoint: the map point it observes, or kNoId
   std::vector<Id> line_ids;   ///< per line: the map line it observes, or kNoId
   cv::Mat dynamic_mask;       ///< CV_8U, 0 = pixels of moving objects (empty: no dynamic filtering)
+  std::vector<KeyframeInstance> instances;  ///< segmented instances (empty without a segmenter)
+  std::vector<DensePoint> dense;            ///< dense cloud, camera frame (empty until the dense stage made it)
 };
 
 struct MapPoint {

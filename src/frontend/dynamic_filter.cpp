@@ -185,6 +185,8 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
   r.mask = fused.mask;
   r.instances = fused.stats.instances;
   r.instances_dynamic = fused.stats.instances_dynamic;
+  r.segmentation = seg;
+  r.decisions = fused.instances;
 
   std::vector<uint8_t> point_dynamic(f->points.size(), 0);
   for (size_t i = 0; i < corr_keypoint.size(); ++i)

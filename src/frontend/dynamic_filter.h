@@ -54,6 +54,8 @@ struct DynamicFrameResult {
   MotionCheckStatus motion_status = MotionCheckStatus::kTooFewCorrespondences;
   int instances_dynamic = 0;  ///< instances judged moving
   int instances = 0;          ///< instances in the segmentation used
+  Segmentation segmentation;  ///< the (possibly carried-over) segmentation used; empty without one
+  std::vector<InstanceDecision> decisions;  ///< per instance of `segmentation`: dynamic or not, and why
 };
 
 class DynamicFilter {

@@ -6,6 +6,7 @@
 #include "core/bounded_queue.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "dynamic/semantic_labels.h"
 
 namespace plslam {
 
@@ -18,15 +19,21 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 struct System::Pipeline {
+  /// What the mapping thread gets of a new keyframe's frame.
   struct KeyframeJob {
     Id keyframe;
     cv::Mat depth_m;
+    cv::Mat bgr;
+    cv::Mat dynamic_mask;       ///< CV_8U, 0 = moving objects (empty: no filtering)
+    Segmentation segmentation;  ///< the masks used for the frame (empty without a segmenter)
   };
   Pipeline(Map* map, const PinholeCamera& camera, const SystemOptions& o)
       : tracker(map, camera, o.tracker),
         mapper(map, camera, o.mapper),
         dynamic(camera, o.dynamic, o.dynamic.enabled ? makeSegmenter(o.segmenter) : nullptr, !o.sequential),
         queue(o.mapping_queue, QueuePolicy::kBlock) {}
+  /// The mapping thread's work on one keyframe (on the caller's thread when sequential).
+  void processKeyframe(const KeyframeJob& job) { mapper.processKeyframe(job.keyframe, job.depth_m); }
   Tracker tracker;
   LocalMapper mapper;
   DynamicFilter dynamic;
@@ -51,7 +58,7 @@ void System::start() {
   pipeline_->started = true;
   if (options_.sequential) return;
   pipeline_->mapping_thread = std::thread([p = pipeline_.get()] {
-    while (auto job = p->queue.pop()) p->mapper.processKeyframe(job->keyframe, job->depth_m);
+    while (auto job = p->queue.pop()) p->processKeyframe(*job);
   });
 }
 
@@ -78,14 +85,19 @@ TrackingResult System::feed(const RgbdFrame& frame, const cv::Mat& mask) {
   rec.matched_lines = r.matched_lines;
   if (isTracked(r.status)) {
     std::lock_guard<std::mutex> lock(map_.mutex());
-    if (r.new_keyframe) map_.keyframe(r.keyframe_id)->dynamic_mask = dyn.mask;
+    if (r.new_keyframe) {
+      KeyFrame* kf = map_.keyframe(r.keyframe_id);
+      kf->dynamic_mask = dyn.mask;
+      kf->instances = describeInstances(dyn.segmentation, dyn.decisions, frame.depth_m, camera_);
+    }
     rec.reference_keyframe = r.reference_keyframe;
     rec.T_ref_c = map_.keyframe(r.reference_keyframe)->T_w_c.inverse() * r.T_w_c;
   }
   records_.push_back(rec);
   if (r.new_keyframe) {
-    if (options_.sequential) pipeline_->mapper.processKeyframe(r.keyframe_id, frame.depth_m);
-    else pipeline_->queue.push({r.keyframe_id, frame.depth_m});
+    Pipeline::KeyframeJob job{r.keyframe_id, frame.depth_m, frame.bgr, dyn.mask, dyn.segmentation};
+    if (options_.sequential) pipeline_->processKeyframe(job);
+    else pipeline_->queue.push(std::move(job));
   }
   return r;
 }
