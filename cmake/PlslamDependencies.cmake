@@ -14,3 +14,11 @@ else()
 endif()
 
 find_package(Ceres REQUIRED)
+
+# Dense maps. PCL's headers are heavy (seconds and hundreds of MB per file): only the
+# few dense/*.cpp files that write clouds include them.
+find_package(PCL REQUIRED COMPONENTS common io filters)
+find_package(octomap REQUIRED)
+
+# Calibration targets and tag detection.
+find_package(apriltag REQUIRED)
