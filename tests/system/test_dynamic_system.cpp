@@ -20,6 +20,7 @@ struct DynamicRun {
   int landmarks_on_persons = 0;
   int landmarks = 0;
   double ate = 0;
+  int keyframe_instances = 0, keyframe_instances_dynamic = 0;
   RunStats stats;
 };
 
@@ -53,6 +54,8 @@ DynamicRun runDynamicScene(bool reject, SegmenterKind segmenter) {
   r.ate = evaluate(data.groundtruth(), slam.trajectory()).ate.stats.rmse;
   for (const auto& [id, kf] : slam.map().keyframes()) {
     const cv::Mat& ids = person_masks.at(kf.t_ns);
+    r.keyframe_instances += static_cast<int>(kf.instances.size());
+    for (const KeyframeInstance& in : kf.instances) r.keyframe_instances_dynamic += in.dynamic;
     for (const Keypoint& k : kf.features.points) {
       if (!std::isfinite(k.depth_m)) continue;
       ++r.landmarks;
@@ -77,6 +80,9 @@ TEST(DynamicSystem, NoPersonLandmarksEnterTheMapWithReplayedMasks) {
   double rejected = 0;
   for (double v : on.stats.dynamic_points_rejected) rejected += v;
   EXPECT_GT(rejected, 0);
+  // The keyframes keep the instances they saw, the walking persons marked dynamic.
+  EXPECT_GT(on.keyframe_instances_dynamic, 0);
+  EXPECT_EQ(off.keyframe_instances, 0);
 }
 
 TEST(DynamicSystem, GeometryAloneRemovesMostPersonLandmarks) {
