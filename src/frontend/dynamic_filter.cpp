@@ -100,9 +100,8 @@ void DynamicFilter::workerLoop() {
 Segmentation DynamicFilter::latestSegmentation(const RgbdFrame& frame, DynamicFrameResult* r) {
   if (!segmenter_) return {};
   const int every = std::max(1, options_.segment_every);
-  const bool due = frame_count_ % every == 0;
   if (!asynchronous_) {
-    if (due) {
+    if (frame_count_ % every == 0) {
       latest_ = segmenter_->segment(frame);
       latest_frame_ = frame_count_;
       r->segmentation_ms = latest_.ms;
@@ -115,9 +114,13 @@ Segmentation DynamicFilter::latestSegmentation(const RgbdFrame& frame, DynamicFr
       finished_.reset();
       r->segmentation_ms = latest_.ms;
     }
-    if (due && !busy_ && !pending_) {
+    // Ask as soon as the worker is idle and `every` frames have passed since the last
+    // request: waiting for the next multiple of `every` would add up to every-1 frames of age.
+    const bool waited = last_request_frame_ < 0 || frame_count_ - last_request_frame_ >= every;
+    if (waited && !busy_ && !pending_) {
       pending_ = frame;  // the images are shared, not copied
       pending_frame_ = frame_count_;
+      last_request_frame_ = frame_count_;
       wake_.notify_one();
     }
   }

@@ -91,6 +91,7 @@ class DynamicFilter {
   std::condition_variable wake_;
   std::optional<RgbdFrame> pending_;
   int pending_frame_ = -1;
+  int last_request_frame_ = -1;  // frame_count_ of the last frame handed to the worker
   std::optional<std::pair<Segmentation, int>> finished_;  // with the frame_count_ it was taken at
   bool busy_ = false, stop_ = false;
 };
