@@ -1,0 +1,102 @@
+// Precision and recall of DynamicFilter's rejection over a stretch of the synthetic dynamic
+// scene, against the renderer's exact instance masks: a keypoint is truly dynamic when it
+// lies on a walking person. Geometry only (no segmenter) and with replayed masks.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <opencv2/imgproc.hpp>
+
+#include "frontend/dynamic_filter.h"
+#include "frontend/feature_extraction.h"
+#include "synth/renderer.h"
+#include "synth/scene.h"
+
+namespace plslam {
+namespace {
+
+struct Confusion {
+  int true_pos = 0, false_pos = 0, false_neg = 0, true_neg = 0;
+  int band_kept = 0, band_rejected = 0;  // background keypoints on the silhouette band (not scored)
+  double precision() const { return true_pos + false_pos ? double(true_pos) / (true_pos + false_pos) : 1.0; }
+  double recall() const { return true_pos + false_neg ? double(true_pos) / (true_pos + false_neg) : 1.0; }
+};
+
+// A background keypoint this close to a person is a corner of the person's silhouette: its
+// ORB patch (31 px) straddles the person and moves with it, so it is neither truly static
+// nor truly dynamic. Such keypoints are counted apart, not scored.
+constexpr float kSilhouetteBandPx = 8;
+
+bool onPerson(const cv::Mat& ids, const Eigen::Vector2d& uv) {
+  return ids.at<uint16_t>(cvRound(uv.y()), cvRound(uv.x())) != 0;
+}
+
+// Frames [first, first + count) of the dynamic scene; the first compare_gap frames only
+// prime the filter and are not scored.
+Confusion scoreRejection(SegmenterKind kind, int first, int count) {
+  const synth::Scene scene = synth::makeScene(synth::SceneKind::kDynamic);
+  const PinholeCamera& camera = scene.camera();
+  DynamicFilterOptions o;
+  std::unique_ptr<Segmenter> segmenter;
+  if (kind == SegmenterKind::kReplay) {
+    SegmenterOptions so;
+    so.kind = kind;
+    so.replay_labels = {{1, 0, "person"}, {2, 0, "person"}, {3, 0, "person"}};
+    segmenter = makeSegmenter(so);
+  }
+  DynamicFilter filter(camera, o, std::move(segmenter), false);
+  Confusion c;
+  for (int i = first; i < first + count; ++i) {
+    const synth::RenderedFrame r = synth::render(scene, i);
+    const RgbdFrame frame = r.toRgbdFrame();
+    FrameFeatures f = extractFeatures(frame, cv::Mat(), camera, FeatureOptions{});
+    const std::vector<Keypoint> before = f.points;
+    filter.process(frame, &f, std::nullopt);
+    if (i < first + o.compare_gap) continue;
+    cv::Mat dist;  // pixels to the nearest person pixel
+    cv::distanceTransform(r.instance_ids == 0, dist, cv::DIST_L2, 3);
+    // Kept keypoints are a subsequence of the extracted ones.
+    size_t k = 0;
+    for (const Keypoint& p : before) {
+      const bool kept = k < f.points.size() && f.points[k].uv_raw == p.uv_raw;
+      k += kept;
+      const bool truth = onPerson(r.instance_ids, p.uv_raw);
+      const float d = dist.at<float>(cvRound(p.uv_raw.y()), cvRound(p.uv_raw.x()));
+      if (truth) {
+        (kept ? c.false_neg : c.true_pos)++;
+      } else if (d <= kSilhouetteBandPx) {
+        (kept ? c.band_kept : c.band_rejected)++;
+      } else {
+        (kept ? c.true_neg : c.false_pos)++;
+      }
+    }
+  }
+  return c;
+}
+
+// Frames 170..229: the near person walks across most of the view.
+constexpr int kFirst = 170, kCount = 60;
+
+TEST(RejectionAccuracy, GeometryAloneRejectsMostPersonKeypointsAndFewBackgroundOnes) {
+  const Confusion c = scoreRejection(SegmenterKind::kNone, kFirst, kCount);
+  std::printf("geometry only: precision %.3f recall %.3f (tp %d fp %d fn %d tn %d)\n", c.precision(), c.recall(),
+              c.true_pos, c.false_pos, c.false_neg, c.true_neg);
+  std::printf("silhouette band (not scored): %d rejected, %d kept\n", c.band_rejected, c.band_kept);
+  ASSERT_GT(c.true_pos + c.false_neg, 200) << "persons must be in view for this test to mean anything";
+  // Measured 0.61 / 0.72 (issue 4 asks 0.8 / 0.9: not reached yet). Bounds below catch a
+  // regression, not the target.
+  EXPECT_GE(c.recall(), 0.55);
+  EXPECT_GE(c.precision(), 0.65);
+}
+
+TEST(RejectionAccuracy, ReplayedMasksRejectNearlyEveryPersonKeypoint) {
+  const Confusion c = scoreRejection(SegmenterKind::kReplay, kFirst, kCount);
+  std::printf("replayed masks: precision %.3f recall %.3f (tp %d fp %d fn %d tn %d)\n", c.precision(), c.recall(),
+              c.true_pos, c.false_pos, c.false_neg, c.true_neg);
+  std::printf("silhouette band (not scored): %d rejected, %d kept\n", c.band_rejected, c.band_kept);
+  // Measured 0.955 / 0.85: masks up to two frames old miss the person's leading edge.
+  EXPECT_GE(c.recall(), 0.9);
+  EXPECT_GE(c.precision(), 0.8);
+}
+
+}  // namespace
+}  // namespace plslam
