@@ -1,0 +1,521 @@
+#include "loop/loop_closer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+#include <cmath>
+#include <set>
+
+#include "core/error.h"
+#include "core/log.h"
+
+namespace plslam {
+
+namespace {
+const Logger kLog("loop");
+
+std::shared_ptr<const VocabularySet> loadOrThrow(const std::string& path) {
+  const std::string file = path.empty() ? defaultVocabularyPath() : path;
+  try {
+    return std::make_shared<const VocabularySet>(loadVocabulary(file));
+  } catch (const Error& e) {
+    throw ConfigError(std::string("loop closure: cannot use the vocabulary (loop.vocabulary, or --no-loop): ") + e.what());
+  }
+}
+}  // namespace
+
+const char* toString(LoopStatus s) {
+  switch (s) {
+    case LoopStatus::kAccepted: return "accepted";
+    case LoopStatus::kLowScore: return "low_score";
+    case LoopStatus::kNoConsistentGroup: return "no_consistent_group";
+    case LoopStatus::kTooFewMatches: return "too_few_matches";
+    case LoopStatus::kTooFewInliers: return "too_few_inliers";
+    case LoopStatus::kRejectedBySemantics: return "rejected_by_semantics";
+    case LoopStatus::kCorrectionFailed: return "correction_failed";
+  }
+  return "unknown";
+}
+
+double combinedScore(double orb, double lbd, bool lines_in_both, const LoopOptions& o) {
+  const double wl = lines_in_both ? o.line_weight : 0.0;
+  const double total = o.point_weight + wl;
+  return total > 0 ? (o.point_weight * orb + wl * lbd) / total : 0.0;
+}
+
+KeyframeBow describeBow(const VocabularySet& vocabulary, const FrameFeatures& f) {
+  KeyframeBow b;
+  b.orb = vocabulary.orb.transform(f.point_descriptors);
+  b.lbd = vocabulary.lbd.transform(f.line_descriptors);
+  return b;
+}
+
+void verifyGeometry(const FrameFeatures& q, const FrameFeatures& k, const PinholeCamera& camera, const LoopOptions& o,
+                    LoopCandidate* c, std::vector<std::pair<int, int>>* inlier_pairs,
+                    const std::vector<Eigen::Vector3d>* query_points_c,
+                    const std::vector<Eigen::Vector3d>* candidate_points_c) {
+  if (inlier_pairs) inlier_pairs->clear();
+  auto usable = [&](const Keypoint& kp) { return std::isfinite(kp.depth_m) && kp.depth_m > 0 && kp.depth_m < o.max_depth_m; };
+  std::vector<DescriptorMatch> matches;
+  if (!q.point_descriptors.empty() && !k.point_descriptors.empty())
+    matches = matchBruteForce(q.point_descriptors, k.point_descriptors, o.matching);
+  std::vector<Eigen::Vector3d> pq, pk;
+  std::vector<std::pair<int, int>> pairs;
+  for (const DescriptorMatch& m : matches) {
+    const Keypoint& a = q.points[m.query];
+    const Keypoint& b = k.points[m.train];
+    if (!usable(a) || !usable(b)) continue;
+    auto position = [&](const Keypoint& kp, int i, const std::vector<Eigen::Vector3d>* known) {
+      if (known && i < static_cast<int>(known->size()) && (*known)[i].allFinite()) return (*known)[i];
+      return camera.unprojectIdeal(kp.uv, kp.depth_m);
+    };
+    pq.push_back(position(a, m.query, query_points_c));
+    pk.push_back(position(b, m.train, candidate_points_c));
+    pairs.emplace_back(m.query, m.train);
+  }
+  c->matches = static_cast<int>(pairs.size());
+  if (c->matches < o.min_matches) {
+    c->status = LoopStatus::kTooFewMatches;
+    c->reason = str(c->matches, " ORB matches with depth < ", o.min_matches);
+    return;
+  }
+  RigidRansacOptions ro = o.ransac;
+  ro.seed = o.ransac.seed ^ (static_cast<uint64_t>(c->query) * 1000003ULL + static_cast<uint64_t>(c->candidate));
+  const RigidRansacResult r = ransacRigid(pq, pk, ro);
+  c->inliers = r.inlier_count;
+  if (!r.ok || r.inlier_count < o.min_inliers || r.inlier_count < o.min_inlier_ratio * c->matches) {
+    c->status = LoopStatus::kTooFewInliers;
+    c->reason = str(r.inlier_count, " RANSAC inliers of ", c->matches, " matches (need ", o.min_inliers, " and ratio ",
+                    o.min_inlier_ratio, ")");
+    return;
+  }
+  c->T_query_candidate = r.T_a_b;
+  c->status = LoopStatus::kAccepted;
+  c->reason = str(r.inlier_count, " inliers of ", c->matches, ", rmse ", r.rmse_m, " m");
+  if (inlier_pairs)
+    for (size_t i = 0; i < pairs.size(); ++i)
+      if (r.inliers[i]) inlier_pairs->push_back(pairs[i]);
+}
+
+namespace {
+/// Per keypoint of `kf`: its map point in the keyframe's camera frame (NaN when none). Map lock held.
+std::vector<Eigen::Vector3d> mapPointsInCamera(const Map& map, const KeyFrame& kf) {
+  std::vector<Eigen::Vector3d> out(kf.point_ids.size(), Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
+  const SE3 T_c_w = kf.T_w_c.inverse();
+  for (size_t i = 0; i < kf.point_ids.size(); ++i)
+    if (const MapPoint* p = kf.point_ids[i] == kNoId ? nullptr : map.point(kf.point_ids[i])) out[i] = T_c_w * p->p_w;
+  return out;
+}
+}  // namespace
+
+LoopCloser::LoopCloser(Map* map, PinholeCamera camera, LoopOptions options)
+    : LoopCloser(map, std::move(camera), options, loadOrThrow(options.vocabulary)) {}
+
+LoopCloser::LoopCloser(Map* map, PinholeCamera camera, LoopOptions options,
+                       std::shared_ptr<const VocabularySet> vocabulary)
+    : map_(map), camera_(std::move(camera)), options_(std::move(options)), vocabulary_(std::move(vocabulary)) {
+  if (!vocabulary_ || vocabulary_->orb.empty()) throw ConfigError("loop closure: empty vocabulary");
+}
+
+void LoopCloser::record(const LoopCandidate& c) {
+  ++stats_.candidates;
+  if (c.status == LoopStatus::kAccepted) ++stats_.accepted;
+  else ++stats_.refused[static_cast<int>(c.status)];
+  log_.push_back(c);
+  kLog.debug(str("keyframe ", c.query, " candidate ", c.candidate, ": ", toString(c.status), " (score ", c.score,
+                 ", normalised ", c.normalised, "; ", c.reason, ")"));
+}
+
+std::optional<LoopCorrection> LoopCloser::processKeyframe(Id id) {
+  ++stats_.queries;
+  ++keyframes_since_loop_;
+  // Copy what is needed under the lock; the bags are computed outside it.
+  FrameFeatures features;
+  std::vector<KeyframeInstance> instances;
+  std::vector<std::pair<Id, int>> covisible;
+  std::vector<Eigen::Vector3d> query_points;
+  {
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    const KeyFrame* kf = map_->keyframe(id);
+    if (!kf) return std::nullopt;
+    features = kf->features;
+    instances = kf->instances;
+    covisible = map_->covisible(id, 1);
+    query_points = mapPointsInCamera(*map_, *kf);
+  }
+  const KeyframeBow bow = describeBow(*vocabulary_, features);
+  const bool has_lines = !bow.lbd.empty();
+
+  auto scoreWith = [&](const KeyframeBow& other, double* orb, double* lbd) {
+    *orb = bowScore(bow.orb, other.orb);
+    *lbd = bowScore(bow.lbd, other.lbd);
+    return combinedScore(*orb, *lbd, has_lines && !other.lbd.empty(), options_);
+  };
+  // Normaliser: the best score against the covisible neighbours (the place as seen just now).
+  double reference = 0;
+  std::set<Id> excluded{id};
+  for (const auto& [other, shared] : covisible) {
+    if (shared >= options_.covisible_exclude_min_shared) excluded.insert(other);
+    if (const KeyframeBow* b = database_.bow(other)) {
+      double so, sl;
+      reference = std::max(reference, scoreWith(*b, &so, &sl));
+    }
+  }
+  for (int i = 0; i < options_.exclude_recent && i < static_cast<int>(order_.size()); ++i)
+    excluded.insert(order_[order_.size() - 1 - i]);
+  if (reference <= 0 && !order_.empty()) {  // no covisible neighbour in the database: the previous keyframe
+    if (const KeyframeBow* b = database_.bow(order_.back())) {
+      double so, sl;
+      reference = scoreWith(*b, &so, &sl);
+    }
+  }
+
+  std::vector<LoopCandidate> candidates;
+  for (const DatabaseScore& s : database_.query(bow)) {
+    if (excluded.count(s.keyframe)) continue;
+    LoopCandidate c;
+    c.query = id;
+    c.candidate = s.keyframe;
+    c.score_orb = s.orb;
+    c.score_lbd = s.lbd;
+    c.score = combinedScore(s.orb, s.lbd, has_lines && !database_.bow(s.keyframe)->lbd.empty(), options_);
+    c.normalised = reference > 0 ? c.score / reference : 0.0;
+    candidates.push_back(c);
+  }
+  database_.add(id, bow);
+  order_.push_back(id);
+
+  const double diagonal = std::hypot(camera_.width, camera_.height);
+  if (options_.use_semantics && !instances.empty()) {
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    for (LoopCandidate& c : candidates) {
+      const KeyFrame* other = map_->keyframe(c.candidate);
+      if (!other || other->instances.empty()) continue;
+      const SemanticResult sem = matchInstances(instances, other->instances, diagonal, options_.semantic);
+      c.semantic_factor = sem.factor;
+      c.normalised *= sem.factor;
+    }
+  }
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const LoopCandidate& a, const LoopCandidate& b) { return a.normalised > b.normalised; });
+  if (static_cast<int>(candidates.size()) > options_.max_candidates) candidates.resize(options_.max_candidates);
+
+  // Consistency: a candidate's covisibility group must overlap a group of the previous keyframe.
+  std::vector<Group> new_groups;
+  std::vector<LoopCandidate> passed;
+  for (LoopCandidate& c : candidates) {
+    const bool low = c.score < options_.min_score || c.normalised < options_.min_normalised_score;
+    if (low) {
+      c.status = c.semantic_factor < 1 && c.normalised / c.semantic_factor >= options_.min_normalised_score
+                     ? LoopStatus::kRejectedBySemantics
+                     : LoopStatus::kLowScore;
+      c.reason = str("score ", c.score, ", normalised ", c.normalised, " (semantic factor ", c.semantic_factor,
+                     ") < ", options_.min_normalised_score);
+      record(c);
+      continue;
+    }
+    Group g;
+    {
+      std::lock_guard<std::mutex> lock(map_->mutex());
+      g.members.push_back(c.candidate);
+      for (const auto& [other, shared] : map_->covisible(c.candidate, 1)) g.members.push_back(other);
+    }
+    std::sort(g.members.begin(), g.members.end());
+    g.count = 1;
+    for (const Group& prev : groups_) {
+      std::vector<Id> common;
+      std::set_intersection(g.members.begin(), g.members.end(), prev.members.begin(), prev.members.end(),
+                            std::back_inserter(common));
+      if (!common.empty()) g.count = std::max(g.count, prev.count + 1);
+    }
+    new_groups.push_back(g);
+    if (g.count < options_.consistency) {
+      c.status = LoopStatus::kNoConsistentGroup;
+      c.reason = str("seen in ", g.count, " consecutive keyframes < ", options_.consistency);
+      record(c);
+      continue;
+    }
+    passed.push_back(c);
+  }
+  groups_ = std::move(new_groups);
+
+  for (LoopCandidate& c : passed) {
+    if (keyframes_since_loop_ < options_.min_keyframes_between_loops) {
+      c.status = LoopStatus::kNoConsistentGroup;
+      c.reason = str("a loop was closed ", keyframes_since_loop_, " keyframes ago");
+      record(c);
+      continue;
+    }
+    FrameFeatures other;
+    std::vector<KeyframeInstance> other_instances;
+    std::vector<Eigen::Vector3d> other_points;
+    {
+      std::lock_guard<std::mutex> lock(map_->mutex());
+      const KeyFrame* kf = map_->keyframe(c.candidate);
+      if (!kf) continue;
+      other = kf->features;
+      other_instances = kf->instances;
+      other_points = mapPointsInCamera(*map_, *kf);
+    }
+    std::vector<std::pair<int, int>> inlier_pairs;
+    verifyGeometry(features, other, camera_, options_, &c, &inlier_pairs, &query_points, &other_points);
+    if (c.status == LoopStatus::kAccepted) refineByProjection(features, query_points, &c);
+    if (c.status == LoopStatus::kAccepted && options_.use_semantics && !instances.empty() && !other_instances.empty()) {
+      const SemanticResult sem =
+          matchInstances(instances, other_instances, diagonal, options_.semantic, c.T_query_candidate);
+      if (sem.refuted) {
+        c.status = LoopStatus::kRejectedBySemantics;
+        c.reason = str("no static instance agrees under the verified pose (", sem.static_a, " and ", sem.static_b,
+                       " instances)");
+      }
+    }
+    if (c.status != LoopStatus::kAccepted) {
+      record(c);
+      continue;
+    }
+    auto correction = correct(c, inlier_pairs);
+    if (!correction) {
+      c.status = LoopStatus::kCorrectionFailed;
+      c.reason = "pose graph optimisation failed";
+      record(c);
+      continue;
+    }
+    record(c);
+    keyframes_since_loop_ = 0;
+    groups_.clear();
+    return correction;
+  }
+  return std::nullopt;
+}
+
+std::optional<LoopCorrection> LoopCloser::correct(const LoopCandidate& c,
+                                                  const std::vector<std::pair<int, int>>& inlier_pairs) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::unique_lock<std::mutex> guard;
+  if (guard_) guard = std::unique_lock<std::mutex>(*guard_);
+  std::lock_guard<std::mutex> lock(map_->mutex());
+  KeyFrame* query = map_->keyframe(c.query);
+  KeyFrame* match = map_->keyframe(c.candidate);
+  if (!query || !match) return std::nullopt;
+
+  std::vector<Id> ids;
+  std::map<Id, int> index;
+  for (const auto& [id, kf] : map_->keyframes()) {
+    index[id] = static_cast<int>(ids.size());
+    ids.push_back(id);
+  }
+  PoseGraphProblem problem;
+  for (Id id : ids) problem.vertices.push_back({map_->keyframe(id)->T_w_c, false});
+  problem.vertices.front().fixed = true;
+  const Eigen::Matrix<double, 6, 6> info =
+      PoseGraphProblem::information(options_.edge_sigma_trans_m, options_.edge_sigma_rot_deg * M_PI / 180.0);
+  auto relative = [&](int i, int j) { return problem.vertices[i].T_w_c.inverse() * problem.vertices[j].T_w_c; };
+  std::set<std::pair<int, int>> linked;
+  for (size_t i = 1; i < ids.size(); ++i) {
+    problem.edges.push_back({static_cast<int>(i - 1), static_cast<int>(i), relative(i - 1, i), info});
+    linked.insert({static_cast<int>(i - 1), static_cast<int>(i)});
+  }
+  for (Id id : ids) {
+    for (const auto& [other, shared] : map_->covisible(id, options_.covisibility_edge_min_shared)) {
+      const int i = index[id], j = index.at(other);
+      if (i >= j || linked.count({i, j})) continue;
+      problem.edges.push_back({i, j, relative(i, j), info});
+      linked.insert({i, j});
+    }
+  }
+  loop_edges_.push_back({c.query, c.candidate, c.T_query_candidate});
+  for (const LoopEdge& e : loop_edges_) {
+    if (!index.count(e.a) || !index.count(e.b)) continue;
+    problem.edges.push_back({index[e.a], index[e.b], e.T_a_b, info});
+  }
+  // Initial guess: the query's covisibility group moves with the loop's correction.
+  const SE3 T_w_query_corrected = match->T_w_c * c.T_query_candidate.inverse();
+  const SE3 correction = T_w_query_corrected * query->T_w_c.inverse();
+  std::set<Id> group{c.query};
+  for (const auto& [other, shared] : map_->covisible(c.query, 1)) group.insert(other);
+  // The match's side stays where it is (the older, trusted part of the map).
+  std::set<Id> match_side{c.candidate};
+  for (const auto& [other, shared] : map_->covisible(c.candidate, 1)) match_side.insert(other);
+  for (Id g : group)
+    if (!match_side.count(g)) problem.vertices[index[g]].T_w_c = correction * problem.vertices[index[g]].T_w_c;
+
+  PoseGraphOptimizer optimizer(options_.pose_graph);
+  const PoseGraphResult result = optimizer.optimize(problem);
+  if (!result.ok()) {
+    loop_edges_.pop_back();
+    kLog.warn(str("loop ", c.query, " - ", c.candidate, ": pose graph failed (", toString(result.status), ")"));
+    return std::nullopt;
+  }
+
+  LoopCorrection out;
+  out.query = c.query;
+  out.match = c.candidate;
+  for (size_t i = 0; i < ids.size(); ++i) {
+    KeyFrame* kf = map_->keyframe(ids[i]);
+    out.T_new_old[ids[i]] = result.T_w_c[i] * kf->T_w_c.inverse();
+    kf->T_w_c = result.T_w_c[i];
+  }
+  auto correctionOf = [&](Id first, const std::map<Id, int>& observations) -> const SE3* {
+    auto it = out.T_new_old.find(first);
+    if (it != out.T_new_old.end()) return &it->second;
+    for (const auto& [kf, idx] : observations) {
+      it = out.T_new_old.find(kf);
+      if (it != out.T_new_old.end()) return &it->second;
+    }
+    return nullptr;
+  };
+  for (const auto& [pid, p] : map_->points()) {
+    MapPoint* mp = map_->point(pid);
+    if (const SE3* T = correctionOf(p.first_keyframe, p.observations)) mp->p_w = *T * mp->p_w;
+  }
+  for (const auto& [lid, l] : map_->lines()) {
+    MapLine* ml = map_->line(lid);
+    if (const SE3* T = correctionOf(l.first_keyframe, l.observations)) {
+      ml->P_w = *T * ml->P_w;
+      ml->Q_w = *T * ml->Q_w;
+    }
+  }
+  int fused = 0;
+  if (options_.fuse_duplicates) {
+    for (const auto& [iq, im] : inlier_pairs) {
+      query = map_->keyframe(c.query);
+      match = map_->keyframe(c.candidate);
+      if (iq >= static_cast<int>(query->point_ids.size()) || im >= static_cast<int>(match->point_ids.size())) continue;
+      const Id pq = query->point_ids[iq], pm = match->point_ids[im];
+      if (pq == kNoId || pm == kNoId || pq == pm || !map_->point(pq) || !map_->point(pm)) continue;
+      map_->mergePoint(pq, pm);
+      ++fused;
+    }
+  }
+  if (options_.global_ba) globalBundleAdjustment(&out.T_new_old);
+  if (hook_) hook_(out);
+  out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  stats_.correction_ms.push_back(out.ms);
+  kLog.info(str("loop closed: keyframe ", c.query, " with ", c.candidate, " (", c.inliers, " inliers, ",
+                correction.translation().norm(), " m correction), ", ids.size(), " keyframes, ", problem.edges.size(),
+                " edges, ", fused, " points fused, ", out.ms, " ms"));
+  return out;
+}
+
+void LoopCloser::refineByProjection(const FrameFeatures& query, const std::vector<Eigen::Vector3d>& query_points,
+                                    LoopCandidate* c) const {
+  // The map points of the candidate and its covisible keyframes, in the candidate's camera frame.
+  std::vector<Eigen::Vector3d> p_c;
+  cv::Mat descriptors;
+  {
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    const KeyFrame* kf = map_->keyframe(c->candidate);
+    if (!kf) return;
+    const SE3 T_c_w = kf->T_w_c.inverse();
+    std::set<Id> seen;
+    std::vector<Id> keyframes{c->candidate};
+    for (const auto& [other, shared] : map_->covisible(c->candidate, 1)) keyframes.push_back(other);
+    for (Id k : keyframes)
+      for (Id pid : map_->keyframe(k)->point_ids) {
+        const MapPoint* p = pid == kNoId ? nullptr : map_->point(pid);
+        if (!p || p->descriptor.empty() || !seen.insert(pid).second) continue;
+        p_c.push_back(T_c_w * p->p_w);
+        descriptors.push_back(p->descriptor);
+      }
+  }
+  if (p_c.empty() || query.points.empty()) return;
+  std::vector<Eigen::Vector2d> uv;
+  std::vector<int> octaves;
+  for (const Keypoint& kp : query.points) uv.push_back(kp.uv), octaves.push_back(kp.octave);
+  const PointGrid grid(uv, camera_.width, camera_.height);
+  std::vector<PointPrediction> predictions(p_c.size());
+  std::vector<int> landmark_of;
+  cv::Mat used;
+  std::vector<Eigen::Vector3d> visible;
+  for (size_t i = 0; i < p_c.size(); ++i) {
+    const Eigen::Vector3d q = c->T_query_candidate * p_c[i];
+    if (q.z() < 0.1) continue;
+    const Eigen::Vector2d px = camera_.projectIdeal(q);
+    if (px.x() < 0 || px.y() < 0 || px.x() >= camera_.width || px.y() >= camera_.height) continue;
+    predictions[visible.size()].uv = px;
+    visible.push_back(p_c[i]);
+    used.push_back(descriptors.row(static_cast<int>(i)));
+  }
+  predictions.resize(visible.size());
+  if (visible.size() < 3) return;
+  PointProjectionOptions po;
+  po.radius_px = options_.projection_radius_px;
+  po.octave_window = -1;
+  po.max_distance = options_.matching.max_distance;
+  const std::vector<DescriptorMatch> matches =
+      matchPointsByProjection(predictions, used, grid, octaves, query.point_descriptors, po);
+  std::vector<Eigen::Vector3d> pa, pb;
+  for (const DescriptorMatch& m : matches) {
+    const Keypoint& kp = query.points[m.train];
+    Eigen::Vector3d a;
+    if (m.train < static_cast<int>(query_points.size()) && query_points[m.train].allFinite()) a = query_points[m.train];
+    else if (std::isfinite(kp.depth_m) && kp.depth_m > 0 && kp.depth_m < options_.max_depth_m)
+      a = camera_.unprojectIdeal(kp.uv, kp.depth_m);
+    else continue;
+    pa.push_back(a);
+    pb.push_back(visible[m.query]);
+  }
+  RigidRansacOptions ro = options_.ransac;
+  ro.seed = options_.ransac.seed + 7;
+  const RigidRansacResult r = ransacRigid(pa, pb, ro);
+  kLog.debug(str("refine by projection: ", visible.size(), " landmarks in view, ", matches.size(), " matched, ", pa.size(),
+                 " with 3D, ", r.inlier_count, " inliers (verification: ", c->inliers, ")"));
+  if (!r.ok || r.inlier_count <= c->inliers) return;
+  c->reason += str("; refined by projection: ", r.inlier_count, " inliers of ", pa.size(), ", rmse ", r.rmse_m, " m");
+  c->inliers = r.inlier_count;
+  c->T_query_candidate = r.T_a_b;
+}
+
+void LoopCloser::globalBundleAdjustment(std::map<Id, SE3>* corrections) {
+  BundleProblem problem;
+  std::vector<Id> kf_ids, point_ids;
+  std::map<Id, int> kf_index;
+  for (const auto& [id, kf] : map_->keyframes()) {
+    kf_index[id] = static_cast<int>(kf_ids.size());
+    kf_ids.push_back(id);
+    problem.keyframes.push_back({kf.T_w_c, kf_ids.size() == 1});
+  }
+  for (const auto& [pid, p] : map_->points()) {
+    if (p.observations.size() < 2) continue;
+    const int pi = static_cast<int>(point_ids.size());
+    point_ids.push_back(pid);
+    problem.points.push_back({p.p_w, false});
+    for (const auto& [kid, idx] : p.observations) {
+      const KeyFrame* kf = map_->keyframe(kid);
+      if (!kf || idx < 0 || idx >= static_cast<int>(kf->features.points.size())) continue;
+      const Keypoint& kp = kf->features.points[idx];
+      BundleProblem::PointObs o;
+      o.keyframe = kf_index.at(kid);
+      o.point = pi;
+      o.uv = kp.uv;
+      o.octave = kp.octave;
+      o.depth = std::isfinite(kp.depth_m) && kp.depth_m > 0 ? kp.depth_m : std::numeric_limits<double>::quiet_NaN();
+      problem.point_obs.push_back(o);
+    }
+  }
+  const BundleResult r = LocalBundleAdjuster(options_.ba).adjust(camera_, problem);
+  if (!r.ok()) {
+    kLog.warn(str("global BA after the loop failed (", toString(r.status), "); the pose-graph result is kept"));
+    return;
+  }
+  for (size_t i = 0; i < kf_ids.size(); ++i) {
+    KeyFrame* kf = map_->keyframe(kf_ids[i]);
+    const SE3 delta = r.T_w_c[i] * kf->T_w_c.inverse();
+    (*corrections)[kf_ids[i]] = delta * (*corrections)[kf_ids[i]];
+    kf->T_w_c = r.T_w_c[i];
+    // Lines and single-view points are not in the BA: they follow their keyframe.
+    for (size_t li = 0; li < kf->line_ids.size(); ++li) {
+      MapLine* l = map_->line(kf->line_ids[li]);
+      if (l && l->first_keyframe == kf_ids[i]) l->P_w = delta * l->P_w, l->Q_w = delta * l->Q_w;
+    }
+    for (Id pid : kf->point_ids) {
+      MapPoint* p = map_->point(pid);
+      if (p && p->first_keyframe == kf_ids[i] && p->observations.size() < 2) p->p_w = delta * p->p_w;
+    }
+  }
+  for (size_t i = 0; i < point_ids.size(); ++i) map_->point(point_ids[i])->p_w = r.points[i];
+  kLog.info(str("global BA after the loop: ", kf_ids.size(), " keyframes, ", point_ids.size(), " points, ", r.outliers,
+                " outliers, ", r.time_ms, " ms"));
+}
+
+}  // namespace plslam

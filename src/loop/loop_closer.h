@@ -1,0 +1,203 @@
+// Loop closure on keyframes: place recognition with bags of ORB and LBD words, semantic
+// instance agreement, geometric verification with depth, pose-graph correction.
+//
+// Per new keyframe (processKeyframe, on the mapping thread after the local mapper):
+//  1. its ORB and LBD bags of words are computed and it is added to the database;
+//  2. every earlier keyframe that is neither covisible with it nor among the last
+//     `exclude_recent` keyframes is scored: s = (w_p s_orb + w_l s_lbd) / (w_p + w_l)
+//     (w_l = 0 when either keyframe has no lines), normalised by the best score of the query
+//     against its covisible neighbours (ORB-SLAM's normalisation: a place is recognised
+//     when it looks about as alike as the frames the camera just saw); then multiplied by
+//     the semantic factor (semantic_match.h) when instances are known;
+//  3. candidates above `min_normalised_score` must be consistent over `consistency`
+//     consecutive keyframes (their covisibility groups overlap, as in ORB-SLAM);
+//  4. geometric verification: ORB descriptor matches (ratio + mutual), keypoints with depth
+//     back-projected, 3D-3D RANSAC + Umeyama refinement (rigid_ransac.h); thresholds on
+//     matches, inliers and inlier ratio; then the instance positions are checked under the
+//     found pose (a semantic contradiction rejects the loop);
+//  5. the first accepted candidate closes the loop: the query keyframe's covisibility group
+//     is moved by the loop correction, a pose graph over all keyframes (consecutive,
+//     strong covisibility and all loop edges so far) is optimised with the oldest
+//     keyframe fixed, map points and lines move with their reference (first) keyframe, and
+//     the inlier point pairs observed by both places are fused.
+// Every examined candidate ends with a LoopStatus and a reason.
+//
+// Thread safety: one LoopCloser per map, used from one thread; it holds the map's mutex
+// while it reads keyframes and while it applies a correction.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "camera/pinhole_camera.h"
+#include "core/map.h"
+#include "features/matching.h"
+#include "loop/keyframe_database.h"
+#include "loop/rigid_ransac.h"
+#include "loop/semantic_match.h"
+#include "loop/vocabulary.h"
+#include "optim/bundle_adjuster.h"
+#include "optim/pose_graph.h"
+
+namespace plslam {
+
+enum class LoopStatus {
+  kAccepted,             ///< verified and corrected
+  kLowScore,             ///< similarity below the threshold
+  kNoConsistentGroup,    ///< not seen consistently over enough consecutive keyframes
+  kTooFewMatches,        ///< too few descriptor matches with depth
+  kTooFewInliers,        ///< 3D-3D RANSAC left too few inliers
+  kRejectedBySemantics,  ///< the instances contradict the place (before or after the pose)
+  kCorrectionFailed,     ///< the pose graph did not converge
+};
+constexpr int kLoopStatusCount = 7;
+const char* toString(LoopStatus status);
+
+struct LoopOptions {
+  std::string vocabulary;            ///< vocabulary file (empty: the one shipped in vocab/)
+  double point_weight = 0.6;         ///< weight of the ORB score in the combined similarity
+  double line_weight = 0.4;          ///< weight of the LBD score (0 when either keyframe has no lines)
+  double min_normalised_score = 0.6; ///< candidates need score / best-covisible score above this
+  double min_score = 0.02;           ///< and a combined score above this
+  int exclude_recent = 10;           ///< the last keyframes before the query are never candidates
+  int covisible_exclude_min_shared = 1;  ///< keyframes sharing this many points with the query are not candidates
+  int max_candidates = 3;            ///< best candidates examined per keyframe
+  int consistency = 2;               ///< consecutive keyframes that must see the place (1: none)
+  bool use_semantics = true;         ///< weigh scores with the keyframes' instances
+  SemanticOptions semantic;          ///< instance matching
+  BruteForceOptions matching{64, 0.8f, true};  ///< ORB matching for verification
+  double max_depth_m = 6.0;          ///< keypoints farther than this are not used
+  RigidRansacOptions ransac;         ///< 3D-3D RANSAC
+  double projection_radius_px = 8.0; ///< search radius when refining the pose by projecting map points
+  int min_matches = 30;              ///< descriptor matches with depth needed
+  int min_inliers = 25;              ///< RANSAC inliers needed
+  double min_inlier_ratio = 0.3;     ///< inliers / matches needed
+  double edge_sigma_trans_m = 0.02;  ///< pose-graph edge sigma, translation (m)
+  double edge_sigma_rot_deg = 1.0;   ///< pose-graph edge sigma, rotation (deg)
+  int covisibility_edge_min_shared = 50;  ///< keyframe pairs sharing this many points get an edge
+  bool fuse_duplicates = true;       ///< merge map points seen at both ends of the loop
+  int min_keyframes_between_loops = 5;  ///< keyframes after an accepted loop before the next
+  PoseGraphOptions pose_graph;       ///< solver
+  /// After the pose graph, a bundle adjustment of every keyframe and map point (ORB-SLAM's
+  /// global BA; lines follow their keyframe). Runs under the map lock: tracking waits.
+  bool global_ba = true;
+  BundleAdjusterOptions ba = globalBundleOptions();  ///< its solver (first keyframe fixed)
+
+  static BundleAdjusterOptions globalBundleOptions() {
+    BundleAdjusterOptions o;
+    o.model.depth_sigma_coeff = 0.025;  // as tracking and local mapping
+    o.max_iterations = 10;
+    o.refine_iterations = 5;
+    o.max_time_s = 3.0;
+    return o;
+  }
+};
+
+/// One examined candidate.
+struct LoopCandidate {
+  Id query = kNoId, candidate = kNoId;
+  double score_orb = 0, score_lbd = 0;
+  double score = 0;            ///< combined
+  double normalised = 0;       ///< combined / best covisible neighbour, times the semantic factor
+  double semantic_factor = 1;
+  int matches = 0, inliers = 0;
+  SE3 T_query_candidate;       ///< the verified relative pose (when matched)
+  LoopStatus status = LoopStatus::kLowScore;
+  std::string reason;
+};
+
+/// What a correction changed: per keyframe, the pose change T_w_new * T_w_old^-1.
+struct LoopCorrection {
+  Id query = kNoId, match = kNoId;
+  std::map<Id, SE3> T_new_old;
+  double ms = 0;
+};
+
+struct LoopStats {
+  int queries = 0;      ///< keyframes processed
+  int candidates = 0;   ///< candidates examined
+  int accepted = 0;
+  int refused[kLoopStatusCount] = {};  ///< per LoopStatus
+  std::vector<double> correction_ms;
+};
+
+/// Similarity of two keyframes' bags as the loop closer computes it (before normalisation).
+double combinedScore(double orb, double lbd, bool lines_in_both, const LoopOptions& options);
+
+/// Bags of words of one keyframe's features.
+KeyframeBow describeBow(const VocabularySet& vocabulary, const FrameFeatures& features);
+
+/// Geometric verification of two keyframes' features with depth: ORB matches, back-projected
+/// keypoints, RANSAC. Fills matches, inliers, T_query_candidate, status and reason of `c`;
+/// `inlier_pairs` (optional) gets the (query keypoint, candidate keypoint) inlier pairs.
+/// `query_points_c` / `candidate_points_c` (optional, per keypoint, camera frame, NaN when
+/// unknown): 3D positions to use instead of the back-projected depth (the loop closer passes
+/// its bundle-adjusted map points, which are more accurate than one depth reading).
+void verifyGeometry(const FrameFeatures& query, const FrameFeatures& candidate, const PinholeCamera& camera,
+                    const LoopOptions& options, LoopCandidate* c,
+                    std::vector<std::pair<int, int>>* inlier_pairs = nullptr,
+                    const std::vector<Eigen::Vector3d>* query_points_c = nullptr,
+                    const std::vector<Eigen::Vector3d>* candidate_points_c = nullptr);
+
+class LoopCloser {
+ public:
+  /// Throws ConfigError when the vocabulary cannot be loaded (naming the file).
+  LoopCloser(Map* map, PinholeCamera camera, LoopOptions options);
+  LoopCloser(Map* map, PinholeCamera camera, LoopOptions options, std::shared_ptr<const VocabularySet> vocabulary);
+
+  /// Adds keyframe `id` and looks for a loop; returns the correction when one was closed.
+  std::optional<LoopCorrection> processKeyframe(Id id);
+
+  /// A correction is applied holding `guard` (locked before the map's mutex; may be null),
+  /// and `hook` is called with it before the guard is released: the system re-anchors the
+  /// tracker there, so no frame is tracked between the map's move and the tracker's.
+  void setCorrectionHook(std::mutex* guard, std::function<void(const LoopCorrection&)> hook) {
+    guard_ = guard;
+    hook_ = std::move(hook);
+  }
+
+  const LoopStats& stats() const { return stats_; }
+  const std::vector<LoopCandidate>& log() const { return log_; }
+  const LoopOptions& options() const { return options_; }
+  const VocabularySet& vocabulary() const { return *vocabulary_; }
+
+ private:
+  std::optional<LoopCorrection> correct(const LoopCandidate& c, const std::vector<std::pair<int, int>>& inlier_pairs);
+  void record(const LoopCandidate& c);
+  /// After verification: the map points of the candidate's neighbourhood projected into the
+  /// query with the found pose, matched there, and the pose refitted on them (more, and
+  /// bundle-adjusted, correspondences than one keyframe pair gives).
+  void refineByProjection(const FrameFeatures& query, const std::vector<Eigen::Vector3d>& query_points,
+                          LoopCandidate* c) const;
+  /// Global BA under the held map lock; updates `corrections` (T_new_old per keyframe).
+  void globalBundleAdjustment(std::map<Id, SE3>* corrections);
+
+  Map* map_;
+  PinholeCamera camera_;
+  LoopOptions options_;
+  std::shared_ptr<const VocabularySet> vocabulary_;
+  KeyframeDatabase database_;
+  std::vector<Id> order_;  ///< keyframes in processing order
+  struct Group {
+    std::vector<Id> members;  ///< sorted
+    int count = 0;
+  };
+  std::vector<Group> groups_;  ///< consistent groups of the previous keyframe
+  struct LoopEdge {
+    Id a, b;
+    SE3 T_a_b;
+  };
+  std::vector<LoopEdge> loop_edges_;
+  int keyframes_since_loop_ = 1 << 20;
+  std::mutex* guard_ = nullptr;
+  std::function<void(const LoopCorrection&)> hook_;
+  LoopStats stats_;
+  std::vector<LoopCandidate> log_;
+};
+
+}  // namespace plslam

@@ -1,0 +1,143 @@
+// Loop verification on rendered views of the synthetic room: the relative pose of two
+// views of one place, a pair with the same textures but another layout, and the semantic
+// veto inside the loop closer.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <memory>
+
+#include "frontend/feature_extraction.h"
+#include "loop/loop_closer.h"
+#include "synth/renderer.h"
+
+using namespace plslam;
+
+namespace {
+
+struct View {
+  SE3 T_w_c;
+  RgbdFrame frame;
+  FrameFeatures features;
+};
+
+const synth::Scene& scene() {
+  static const synth::Scene s = synth::makeScene(synth::SceneKind::kLoop, synth::SceneOptions{});
+  return s;
+}
+
+View describe(const SE3& T_w_c, const cv::Mat& bgr, const cv::Mat& depth) {
+  View v;
+  v.T_w_c = T_w_c;
+  v.frame.bgr = bgr;
+  v.frame.depth_m = depth;
+  v.features = extractFeatures(v.frame, cv::Mat(), scene().camera(), FeatureOptions{});
+  return v;
+}
+
+View render(const SE3& T_w_c, uint64_t noise) {
+  const synth::RenderedFrame f = synth::renderView(scene(), T_w_c, scene().frameTime(0), noise);
+  return describe(T_w_c, f.bgr, f.depth_m);
+}
+
+const SE3 kOffset(Eigen::Quaterniond(Eigen::AngleAxisd(5 * M_PI / 180, Eigen::Vector3d(0.2, 1, 0.1).normalized())),
+                  Eigen::Vector3d(0.10, -0.03, 0.06));
+
+// The same pixels cut into a 4 x 4 grid of blocks and shuffled (colour and depth alike):
+// the same textures, the things in them in other places.
+cv::Mat shuffleBlocks(const cv::Mat& img) {
+  cv::Mat out = img.clone();
+  const int bw = img.cols / 4, bh = img.rows / 4;
+  const int order[16] = {5, 14, 3, 8, 11, 0, 13, 6, 1, 10, 15, 4, 9, 2, 7, 12};
+  for (int k = 0; k < 16; ++k) {
+    const cv::Rect from((order[k] % 4) * bw, (order[k] / 4) * bh, bw, bh), to((k % 4) * bw, (k / 4) * bh, bw, bh);
+    img(from).copyTo(out(to));
+  }
+  return out;
+}
+
+std::shared_ptr<const VocabularySet> vocabulary() {
+  static const auto v = std::make_shared<const VocabularySet>(loadVocabulary(defaultVocabularyPath()));
+  return v;
+}
+
+}  // namespace
+
+TEST(LoopPlaces, TwoViewsOfOnePlaceGiveTheRelativePoseWithinTwoCentimetresAndOneDegree) {
+  const SE3 T_w_a = scene().cameraPose(0);
+  const View a = render(T_w_a, 1), b = render(T_w_a * kOffset, 2);
+  LoopCandidate c;
+  c.query = 1, c.candidate = 0;
+  verifyGeometry(a.features, b.features, scene().camera(), LoopOptions{}, &c);
+  ASSERT_EQ(c.status, LoopStatus::kAccepted) << c.reason;
+  const SE3 truth = a.T_w_c.inverse() * b.T_w_c;
+  const SE3 error = truth.inverse() * c.T_query_candidate;
+  EXPECT_LT(error.translation().norm(), 0.02) << c.reason;
+  EXPECT_LT(error.quaternion().angularDistance(Eigen::Quaterniond::Identity()) * 180 / M_PI, 1.0) << c.reason;
+}
+
+TEST(LoopPlaces, SameTexturesInAnotherLayoutLookAlikeButAreNotAccepted) {
+  const SE3 T_w_a = scene().cameraPose(0);
+  const View a = render(T_w_a, 1);
+  const View shuffled = describe(T_w_a, shuffleBlocks(a.frame.bgr), shuffleBlocks(a.frame.depth_m));
+  const View elsewhere = render(scene().cameraPose(scene().frameCount() / 2), 3);  // the opposite wall
+  const LoopOptions o;
+  const KeyframeBow ba = describeBow(*vocabulary(), a.features), bs = describeBow(*vocabulary(), shuffled.features),
+                    be = describeBow(*vocabulary(), elsewhere.features);
+  const double s_shuffled = combinedScore(bowScore(ba.orb, bs.orb), bowScore(ba.lbd, bs.lbd), true, o);
+  const double s_elsewhere = combinedScore(bowScore(ba.orb, be.orb), bowScore(ba.lbd, be.lbd), true, o);
+  EXPECT_GT(s_shuffled, 1.5 * s_elsewhere) << "the shuffled view should look like the place to the bag of words";
+  LoopCandidate c;
+  c.query = 1, c.candidate = 0;
+  verifyGeometry(a.features, shuffled.features, scene().camera(), o, &c);
+  EXPECT_NE(c.status, LoopStatus::kAccepted) << c.reason;
+  EXPECT_EQ(c.status, LoopStatus::kTooFewInliers) << c.reason;
+}
+
+TEST(LoopPlaces, LoopCloserAcceptsTheRevisitAndVetoesItWhenTheInstancesDisagree) {
+  const SE3 T_w_a = scene().cameraPose(0);
+  const View a = render(T_w_a, 1), b = render(T_w_a * kOffset, 2);
+  auto instance = [](int cls, const char* name, cv::Rect box, Eigen::Vector3d c) {
+    KeyframeInstance i;
+    i.class_id = cls, i.class_name = name, i.box = box, i.centroid_c = c;
+    return i;
+  };
+  const std::vector<KeyframeInstance> layout = {instance(24, "backpack", {100, 200, 80, 120}, {-0.8, 0.3, 2.0}),
+                                                instance(62, "tv", {300, 100, 120, 80}, {0.1, -0.3, 2.5}),
+                                                instance(73, "refrigerator", {520, 40, 100, 300}, {1.4, -0.2, 3.0})};
+  std::vector<KeyframeInstance> other = layout;
+  other[0].box = {520, 300, 80, 120}, other[0].centroid_c = {1.2, 0.5, 4.0};
+  other[1].box = {20, 300, 120, 80}, other[1].centroid_c = {-1.5, 0.5, 1.0};
+  other[2].box = {100, 20, 100, 300}, other[2].centroid_c = {-1.0, -0.8, 3.8};
+
+  LoopOptions o;
+  o.exclude_recent = 0;
+  o.consistency = 1;
+  for (const bool agree : {true, false}) {
+    Map map;
+    KeyFrame ka, kb;
+    ka.T_w_c = a.T_w_c, ka.features = a.features, ka.instances = layout;
+    kb.T_w_c = b.T_w_c * SE3(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.05, 0, 0));  // drifted
+    kb.features = b.features, kb.instances = agree ? layout : other;
+    const Id ia = map.addKeyFrame(ka);
+    const Id ib = map.addKeyFrame(kb);
+    LoopCloser closer(&map, scene().camera(), o, vocabulary());
+    EXPECT_FALSE(closer.processKeyframe(ia).has_value());
+    const auto correction = closer.processKeyframe(ib);
+    ASSERT_FALSE(closer.log().empty());
+    const LoopCandidate& c = closer.log().back();
+    EXPECT_EQ(c.candidate, ia);
+    if (agree) {
+      ASSERT_TRUE(correction.has_value()) << toString(c.status) << ": " << c.reason;
+      EXPECT_EQ(c.status, LoopStatus::kAccepted);
+      EXPECT_GT(c.semantic_factor, 1.0);
+      // The pose graph moves the drifted keyframe towards the truth (two keyframes: the
+      // odometry edge and the loop edge share the 5 cm disagreement).
+      EXPECT_LT((map.keyframe(ib)->T_w_c.translation() - b.T_w_c.translation()).norm(), 0.75 * 0.05);
+      EXPECT_EQ(closer.stats().accepted, 1);
+    } else {
+      EXPECT_FALSE(correction.has_value());
+      EXPECT_EQ(c.status, LoopStatus::kRejectedBySemantics) << c.reason;
+      EXPECT_EQ(closer.stats().refused[static_cast<int>(LoopStatus::kRejectedBySemantics)], 1);
+    }
+  }
+}

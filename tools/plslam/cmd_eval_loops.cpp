@@ -1,0 +1,233 @@
+// plslam eval loops: precision-recall of place recognition against ground-truth loops.
+//
+// Every frame (or every --every-th) is described by its ORB and LBD bags of words (and its
+// segmented instances with --segmenter). Ground truth: two frames show the same place when
+// their camera positions are within --distance and their optical axes within --angle, and
+// they are at least --min-gap seconds apart. Each query frame proposes its best-scoring
+// earlier frame (at least --min-gap back), with the loop closer's score: the similarity
+// normalised by the best similarity to the frames of the last second before the query (the
+// stand-in for covisible keyframes). Sweeping a threshold on that score gives precision
+// (correct proposals / proposals) and recall (correct proposals / queries that have a true
+// match), for four variants: ORB only, LBD only, ORB+LBD, ORB+LBD+semantic.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "camera/camera_file.h"
+#include "commands.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/log.h"
+#include "dynamic/segmenter.h"
+#include "dynamic/semantic_labels.h"
+#include "frontend/feature_extraction.h"
+#include "io/dataset.h"
+#include "loop/loop_closer.h"
+
+namespace plslam::cli {
+
+namespace {
+
+struct FrameInfo {
+  TimeNs t_ns = 0;
+  SE3 T_w_c;
+  KeyframeBow bow;
+  std::vector<KeyframeInstance> instances;
+};
+
+struct Proposal {
+  double score = 0;
+  bool correct = false;
+};
+
+struct Curve {
+  std::string name;
+  std::vector<Proposal> proposals;
+  int positives = 0;
+  std::vector<std::array<double, 3>> points;  // threshold, precision, recall
+  double recall_at_p1 = 0;
+};
+
+const SE3* groundTruthAt(const Trajectory& gt, TimeNs t, TimeNs max_diff) {
+  const StampedPose* best = nullptr;
+  for (const StampedPose& p : gt)
+    if (std::llabs(p.t_ns - t) <= max_diff && (!best || std::llabs(p.t_ns - t) < std::llabs(best->t_ns - t))) best = &p;
+  return best ? &best->T_w_c : nullptr;
+}
+
+void drawCurves(const std::string& path, const std::vector<Curve>& curves, const std::string& title) {
+  const int W = 720, H = 560, L = 70, R = 20, T = 40, B = 60;
+  cv::Mat img(H, W, CV_8UC3, cv::Scalar(255, 255, 255));
+  auto px = [&](double recall, double precision) {
+    return cv::Point(L + static_cast<int>(recall * (W - L - R)), H - B - static_cast<int>(precision * (H - T - B)));
+  };
+  for (int k = 0; k <= 10; ++k) {
+    const double v = k / 10.0;
+    cv::line(img, px(v, 0), px(v, 1), cv::Scalar(230, 230, 230));
+    cv::line(img, px(0, v), px(1, v), cv::Scalar(230, 230, 230));
+    char buf[16];
+    std::snprintf(buf, sizeof(buf), "%.1f", v);
+    cv::putText(img, buf, px(v, 0) + cv::Point(-10, 20), cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(30, 30, 30), 1, cv::LINE_AA);
+    cv::putText(img, buf, px(0, v) + cv::Point(-35, 5), cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(30, 30, 30), 1, cv::LINE_AA);
+  }
+  cv::rectangle(img, px(0, 1), px(1, 0), cv::Scalar(60, 60, 60));
+  cv::putText(img, "recall", cv::Point(W / 2 - 20, H - 15), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(30, 30, 30), 1, cv::LINE_AA);
+  cv::putText(img, "precision", cv::Point(5, T - 10), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(30, 30, 30), 1, cv::LINE_AA);
+  cv::putText(img, title, cv::Point(L + 60, T - 15), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(30, 30, 30), 1, cv::LINE_AA);
+  const cv::Scalar colours[] = {cv::Scalar(200, 80, 0), cv::Scalar(0, 140, 0), cv::Scalar(0, 0, 220), cv::Scalar(160, 0, 160)};
+  for (size_t c = 0; c < curves.size(); ++c) {
+    std::vector<cv::Point> poly;
+    for (const auto& p : curves[c].points) poly.push_back(px(p[2], p[1]));
+    if (poly.size() > 1) cv::polylines(img, poly, false, colours[c % 4], 2, cv::LINE_AA);
+    char buf[128];
+    std::snprintf(buf, sizeof(buf), "%s (recall@P1 %.2f)", curves[c].name.c_str(), curves[c].recall_at_p1);
+    const cv::Point at(L + 15, H - B - 20 - 20 * static_cast<int>(curves.size() - 1 - c));
+    cv::line(img, at + cv::Point(0, -4), at + cv::Point(25, -4), colours[c % 4], 2, cv::LINE_AA);
+    cv::putText(img, buf, at + cv::Point(32, 0), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(30, 30, 30), 1, cv::LINE_AA);
+  }
+  std::vector<uchar> png;
+  if (!cv::imencode(".png", img, png)) throw IoError(path + ": cannot encode the plot");
+  writeFileAtomically(path, std::string(png.begin(), png.end()));
+}
+
+}  // namespace
+
+int runEvalLoops(int argc, char** argv) {
+  Args args("eval loops", "Precision-recall of loop detection (place recognition) against ground-truth poses.");
+  args.option("dataset", "RGB-D folder in the TUM layout with groundtruth.txt", "", true)
+      .option("calib", "camera file (ViSP XML); default: <dataset>/camera.xml")
+      .option("out", "output folder: pr.csv, pr.png, summary.json", "", true)
+      .option("distance", "same place: camera positions within this distance, metres", "0.3")
+      .option("angle", "same place: optical axes within this angle, degrees", "20")
+      .option("min-gap", "pairs closer in time than this are not loops, seconds", "3")
+      .option("every", "use every N-th frame", "1")
+      .option("vocab", "vocabulary file (default: the shipped one)")
+      .option("segmenter", "instances for the semantic variant: none, replay (masks of the folder) or a YOLOv8-seg .onnx",
+              "none")
+      .epilog("example: plslam eval loops --dataset /tmp/loop --out /tmp/loop_pr");
+  if (!args.parse(argc, argv)) return 0;
+  const double distance = args.number("distance"), angle_deg = args.number("angle"), gap_s = args.number("min-gap");
+  const int every = args.integer("every", 1, 10000);
+  const std::string dir = args.str("dataset"), out = args.str("out");
+  const PinholeCamera camera = loadCameraFile(args.has("calib") ? args.str("calib") : dir + "/camera.xml");
+  TumDataset dataset = TumDataset::open(dir, camera);
+  if (!dataset.hasGroundtruth()) throw IoError(dir + ": no groundtruth.txt; eval loops needs ground-truth poses");
+  const VocabularySet vocab = loadVocabulary(args.has("vocab") ? args.str("vocab") : defaultVocabularyPath());
+
+  SegmenterOptions so;
+  const std::string seg = args.str("segmenter");
+  if (seg == "none" || seg == "replay") so.kind = parseSegmenterKind(seg);
+  else so.kind = SegmenterKind::kYolo, so.yolo.model_path = seg;
+  for (const InstanceLabel& l : dataset.instanceLabels()) so.replay_labels.push_back({l.instance_id, l.class_id, l.class_name});
+  std::unique_ptr<Segmenter> segmenter = makeSegmenter(so);
+
+  FeatureOptions fo;
+  fo.parallel = false;
+  std::vector<FrameInfo> frames;
+  RgbdFrame frame;
+  for (size_t i = 0; i < dataset.size(); i += every) {
+    if (dataset.load(i, &frame) != FrameStatus::kOk) continue;
+    const SE3* T = groundTruthAt(dataset.groundtruth(), frame.t_ns, 20'000'000LL);
+    if (!T) continue;
+    FrameInfo f;
+    f.t_ns = frame.t_ns;
+    f.T_w_c = *T;
+    f.bow = describeBow(vocab, extractFeatures(frame, cv::Mat(), camera, fo));
+    if (so.kind != SegmenterKind::kNone)
+      f.instances = describeInstances(segmenter->segment(frame), {}, frame.depth_m, camera);
+    frames.push_back(std::move(f));
+    std::fprintf(stderr, "\r[eval loops] frame %zu/%zu  ", i + 1, dataset.size());
+  }
+  std::fprintf(stderr, "\n");
+  if (frames.size() < 2) throw DataError(dir + ": fewer than two frames with ground truth");
+
+  int with_instances = 0;
+  for (const FrameInfo& f : frames) with_instances += !f.instances.empty();
+  std::printf("%zu frames, %d with segmented instances\n", frames.size(), with_instances);
+  const TimeNs gap = static_cast<TimeNs>(gap_s * kNsPerSecond);
+  const double cos_angle = std::cos(angle_deg * M_PI / 180.0);
+  auto samePlace = [&](const FrameInfo& a, const FrameInfo& b) {
+    const Eigen::Vector3d za = a.T_w_c.rotation() * Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d zb = b.T_w_c.rotation() * Eigen::Vector3d::UnitZ();
+    return (a.T_w_c.translation() - b.T_w_c.translation()).norm() < distance && za.dot(zb) > cos_angle;
+  };
+  LoopOptions lo;
+  const double diagonal = std::hypot(camera.width, camera.height);
+  std::vector<Curve> curves(4);
+  for (int v = 0; v < 4; ++v) curves[v].name = std::vector<std::string>{"ORB", "LBD", "ORB+LBD", "ORB+LBD+semantic"}[v];
+  auto variantScore = [&](int v, const FrameInfo& a, const FrameInfo& b) {
+    const double so_ = bowScore(a.bow.orb, b.bow.orb), sl = bowScore(a.bow.lbd, b.bow.lbd);
+    if (v == 0) return so_;
+    if (v == 1) return sl;
+    double s = combinedScore(so_, sl, !a.bow.lbd.empty() && !b.bow.lbd.empty(), lo);
+    if (v == 3 && !a.instances.empty() && !b.instances.empty())
+      s *= matchInstances(a.instances, b.instances, diagonal, lo.semantic).factor;
+    return s;
+  };
+  int queries_with_truth = 0;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    const FrameInfo& q = frames[i];
+    bool has_truth = false, has_candidate = false;
+    for (size_t j = 0; j < i; ++j)
+      if (q.t_ns - frames[j].t_ns >= gap) {
+        has_candidate = true;
+        has_truth = has_truth || samePlace(q, frames[j]);
+      }
+    if (!has_candidate) continue;
+    queries_with_truth += has_truth;
+    for (int v = 0; v < 4; ++v) {
+      double reference = 0;
+      for (size_t j = 0; j < i; ++j)
+        if (q.t_ns - frames[j].t_ns <= kNsPerSecond) reference = std::max(reference, variantScore(v == 3 ? 2 : v, q, frames[j]));
+      double best = -1;
+      size_t best_j = 0;
+      for (size_t j = 0; j < i; ++j) {
+        if (q.t_ns - frames[j].t_ns < gap) continue;
+        const double s = variantScore(v, q, frames[j]);
+        if (s > best) best = s, best_j = j;
+      }
+      curves[v].proposals.push_back({reference > 0 ? best / reference : best, samePlace(q, frames[best_j])});
+    }
+  }
+  std::ostringstream csv, json;
+  csv << "variant,threshold,precision,recall,true_positives,false_positives\n";
+  json << "{\n  \"dataset\": \"" << dir << "\", \"frames\": " << frames.size() << ", \"queries_with_true_loop\": "
+       << queries_with_truth << ", \"frames_with_instances\": " << with_instances << ", \"distance_m\": " << distance << ", \"angle_deg\": " << angle_deg
+       << ", \"min_gap_s\": " << gap_s << ",\n  \"variants\": {";
+  for (size_t v = 0; v < curves.size(); ++v) {
+    Curve& c = curves[v];
+    c.positives = queries_with_truth;
+    std::vector<Proposal> sorted = c.proposals;
+    std::sort(sorted.begin(), sorted.end(), [](const Proposal& a, const Proposal& b) { return a.score > b.score; });
+    int tp = 0, fp = 0;
+    bool clean = true;
+    for (size_t k = 0; k < sorted.size(); ++k) {
+      (sorted[k].correct ? tp : fp) += 1;
+      if (k + 1 < sorted.size() && sorted[k + 1].score == sorted[k].score) continue;
+      const double precision = static_cast<double>(tp) / (tp + fp);
+      const double recall = c.positives ? static_cast<double>(tp) / c.positives : 0.0;
+      c.points.push_back({sorted[k].score, precision, recall});
+      if (fp > 0) clean = false;
+      if (clean) c.recall_at_p1 = recall;
+      csv << c.name << "," << sorted[k].score << "," << precision << "," << recall << "," << tp << "," << fp << "\n";
+    }
+    json << (v ? "," : "") << "\n    \"" << c.name << "\": {\"recall_at_precision_1\": " << c.recall_at_p1
+         << ", \"proposals\": " << c.proposals.size() << "}";
+    std::printf("%-18s recall at precision 1.0: %.3f  (%d queries with a true loop, %zu proposals)\n", c.name.c_str(),
+                c.recall_at_p1, c.positives, c.proposals.size());
+  }
+  json << "\n  }\n}\n";
+  std::filesystem::create_directories(out);
+  writeFileAtomically(out + "/pr.csv", csv.str());
+  writeFileAtomically(out + "/summary.json", json.str());
+  drawCurves(out + "/pr.png", curves, std::filesystem::path(dir).filename().string() + ": loop detection P-R");
+  std::printf("outputs: %s/pr.csv pr.png summary.json\n", out.c_str());
+  return 0;
+}
+
+}  // namespace plslam::cli
