@@ -1,0 +1,47 @@
+// Options of the dense maps: the per-keyframe clouds the mapping thread makes, and the
+// products built from them at the end of a run or by `plslam export` (fused cloud,
+// OctoMaps, 2D occupancy grid). One struct; keys `dense.*` in a run configuration.
+#pragma once
+
+#include <string>
+
+namespace plslam {
+
+struct DenseOptions {
+  // --- per keyframe (mapping thread) ---
+  bool enabled = true;                ///< make a dense cloud for every keyframe
+  double min_depth_m = 0.3;           ///< pixels nearer than this are left out (m)
+  double max_depth_m = 3.0;           ///< pixels farther than this are left out (m; depth noise grows with z^2)
+  int pixel_stride = 2;               ///< use every n-th pixel in u and v (1 = all)
+  double edge_jump_ratio = 0.03;      ///< drop pixels whose depth differs from a 4-neighbour's by more than this fraction of it (flying pixels; 0 = keep)
+  int smooth_radius_px = 2;           ///< depth denoising: average inverse depth over a (2r+1)^2 window of similar depths (0 = off)
+  double depth_sigma_coeff = 0.002;   ///< depth noise sigma = coeff * z^2 (m, z in m; Kinect-like); window pixels within 3 sigma are averaged
+  double keyframe_voxel_m = 0.01;     ///< voxel size of the per-keyframe downsampling, camera frame (m; 0 = none)
+
+  // --- fused cloud (export) ---
+  double fused_voxel_m = 0.01;        ///< voxel size of the fused world cloud (m; 0 = no fusion, every point kept)
+  int min_voxel_points = 1;           ///< fused voxels with fewer points than this are dropped (outliers)
+
+  // --- OctoMap (export) ---
+  double octree_resolution_m = 0.05;  ///< leaf size of the octrees (m)
+  double max_range_m = 4.0;           ///< rays are cut at this range; farther points only mark free space (m; <= 0: no limit)
+  double prob_hit = 0.7;              ///< occupancy probability of a ray end point
+  double prob_miss = 0.4;             ///< occupancy probability of a voxel a ray passes through
+  double occupied_thresh = 0.5;       ///< a voxel is occupied above this probability
+
+  // --- floor and 2D grid (export) ---
+  std::string floor = "ransac";       ///< floor plane: "ransac" (lowest large plane near level) or "gravity" (-y of the first keyframe's camera)
+  double floor_max_tilt_deg = 30.0;   ///< ransac: candidate planes within this angle of the first camera's up (-y)
+  double floor_inlier_m = 0.02;       ///< ransac: inlier distance to a plane (m)
+  double floor_min_fraction = 0.05;   ///< ransac: a plane needs this fraction of the cloud's points to be a floor candidate
+  double grid_min_height_m = 0.10;    ///< the grid's height band above the floor, lower end (m)
+  double grid_max_height_m = 2.0;     ///< upper end (m): obstacles between the two block a robot
+  double grid_resolution_m = 0.05;    ///< cell size of the 2D grid (m)
+  double grid_occupied_thresh = 0.65; ///< written to the map YAML (map_server: occupied above)
+  double grid_free_thresh = 0.196;    ///< written to the map YAML (map_server: free below)
+};
+
+/// Throws ConfigError naming the field when an option is out of range.
+void validateDenseOptions(const DenseOptions& options);
+
+}  // namespace plslam

@@ -1,0 +1,184 @@
+#include "dense/dense_products.h"
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/json.h"
+#include "core/log.h"
+
+namespace plslam {
+
+namespace {
+
+const Logger kLog("dense");
+
+// A field of /proc/self/status in kB, as MB (0 when absent).
+double procStatusMb(const char* field) {
+  std::ifstream in("/proc/self/status");
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind(field, 0) == 0) return std::atof(line.c_str() + std::strlen(field)) / 1024.0;
+  return 0;
+}
+
+template <typename F>
+void timed(DenseProducts* p, const std::string& step, F f) {
+  resetPeakResident();
+  DenseCost c;
+  c.step = step;
+  c.start_rss_mb = residentMb();
+  const auto t0 = std::chrono::steady_clock::now();
+  f();
+  c.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  c.peak_rss_mb = peakResidentMb();
+  p->costs.push_back(c);
+  kLog.info(str(step, ": ", c.seconds, " s, peak RSS ", c.peak_rss_mb, " MB"));
+}
+
+std::string fmt(double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.6g", v);
+  return b;
+}
+
+std::string vec3(const Eigen::Vector3d& v) { return "[" + fmt(v.x()) + ", " + fmt(v.y()) + ", " + fmt(v.z()) + "]"; }
+
+}  // namespace
+
+double residentMb() { return procStatusMb("VmRSS:"); }
+double peakResidentMb() { return procStatusMb("VmHWM:"); }
+bool resetPeakResident() {
+  std::ofstream out("/proc/self/clear_refs");
+  if (!out) return false;
+  out << "5";  // "5": reset the peak resident set size (Linux >= 4.0)
+  out.flush();
+  return static_cast<bool>(out);
+}
+
+void validateDenseOptions(const DenseOptions& o) {
+  const auto need = [](bool ok, const char* key, const std::string& why) {
+    if (!ok) throw ConfigError(std::string("dense.") + key + ": " + why);
+  };
+  need(o.min_depth_m >= 0 && o.max_depth_m > o.min_depth_m, "max_depth_m", "must exceed min_depth_m >= 0");
+  need(o.pixel_stride >= 1, "pixel_stride", "must be >= 1");
+  need(o.edge_jump_ratio >= 0, "edge_jump_ratio", "must be >= 0");
+  need(o.smooth_radius_px >= 0 && o.smooth_radius_px <= 10, "smooth_radius_px", "must be in [0, 10]");
+  need(o.depth_sigma_coeff >= 0, "depth_sigma_coeff", "must be >= 0");
+  need(o.keyframe_voxel_m >= 0, "keyframe_voxel_m", "must be >= 0");
+  need(o.fused_voxel_m >= 0, "fused_voxel_m", "must be >= 0");
+  need(o.min_voxel_points >= 1, "min_voxel_points", "must be >= 1");
+  need(o.octree_resolution_m >= 0.001 && o.octree_resolution_m <= 10, "octree_resolution_m", "must be in [0.001, 10]");
+  need(o.prob_hit > 0.5 && o.prob_hit < 1, "prob_hit", "must be in (0.5, 1)");
+  need(o.prob_miss > 0 && o.prob_miss < 0.5, "prob_miss", "must be in (0, 0.5)");
+  need(o.occupied_thresh > 0 && o.occupied_thresh < 1, "occupied_thresh", "must be in (0, 1)");
+  need(o.floor == "ransac" || o.floor == "gravity", "floor", "must be ransac or gravity, not '" + o.floor + "'");
+  need(o.floor_max_tilt_deg > 0 && o.floor_max_tilt_deg < 90, "floor_max_tilt_deg", "must be in (0, 90)");
+  need(o.floor_inlier_m > 0, "floor_inlier_m", "must be > 0");
+  need(o.floor_min_fraction > 0 && o.floor_min_fraction < 1, "floor_min_fraction", "must be in (0, 1)");
+  need(o.grid_max_height_m > o.grid_min_height_m, "grid_max_height_m", "must exceed grid_min_height_m");
+  need(o.grid_resolution_m >= 0.005 && o.grid_resolution_m <= 10, "grid_resolution_m", "must be in [0.005, 10]");
+  need(o.grid_free_thresh > 0 && o.grid_free_thresh < o.grid_occupied_thresh && o.grid_occupied_thresh < 1,
+       "grid_occupied_thresh", "need 0 < grid_free_thresh < grid_occupied_thresh < 1");
+}
+
+DenseProducts buildDenseProducts(const Map& map, const DenseOptions& o, const DenseSelection& what,
+                                 const DenseProgress& progress) {
+  validateDenseOptions(o);
+  DenseProducts p;
+  p.keyframes = static_cast<int>(map.keyframes().size());
+  for (const auto& [id, kf] : map.keyframes()) {
+    p.keyframes_with_cloud += !kf.dense.empty();
+    p.keyframe_points += kf.dense.size();
+  }
+  const SE3 T_w_c0 = map.keyframes().empty() ? SE3() : map.keyframes().begin()->second.T_w_c;
+  const bool need_cloud = what.pcd || what.ply || what.semantic_octomap || what.grid;
+  const bool need_octree = what.octomap || what.semantic_octomap || what.grid;
+
+  bool stop = false;
+  if (need_cloud) timed(&p, "cloud", [&] { p.cloud = fuseCloud(map, o, progress, &stop); });
+  if (!stop && need_octree) timed(&p, "octomap", [&] { p.octree = buildOctree(map, o, progress, &stop); });
+  if (!stop && what.semantic_octomap)
+    timed(&p, "semantic octomap", [&] { p.semantic_octree = buildSemanticOctree(*p.octree, p.cloud, o); });
+  if (!stop && what.semantic_octomap && progress && !progress("semantic octomap", 1, 1)) stop = true;
+  if (!stop && what.grid) {
+    timed(&p, "floor", [&] { p.floor = estimateFloor(p.cloud, T_w_c0, o); });
+    timed(&p, "grid", [&] { p.grid = projectToGrid(*p.octree, p.floor, o); });
+    if (progress && !progress("grid", 1, 1)) stop = true;
+  }
+  p.cancelled = stop;
+  return p;
+}
+
+std::string denseSummaryJson(const DenseProducts& p, const DenseOptions& o, const std::vector<WrittenFile>& files) {
+  std::ostringstream s;
+  s << "{\n  \"keyframes\": " << p.keyframes << ",\n  \"keyframes_with_cloud\": " << p.keyframes_with_cloud
+    << ",\n  \"keyframe_points\": " << p.keyframe_points << ",\n  \"fused_points\": " << p.cloud.size()
+    << ",\n  \"fused_voxel_m\": " << fmt(o.fused_voxel_m) << ",\n  \"cancelled\": " << (p.cancelled ? "true" : "false");
+  if (p.octree) {
+    const OctreeSummary t = summarizeOctree(*p.octree);
+    s << ",\n  \"octree\": {\"resolution_m\": " << fmt(o.octree_resolution_m)
+      << ", \"occupied_leaves\": " << t.occupied_leaves << ", \"free_leaves\": " << t.free_leaves
+      << ", \"memory_bytes\": " << t.memory_bytes << "}";
+  }
+  if (p.grid.width > 0) {
+    const Eigen::Quaterniond& q = p.grid.T_w_grid.quaternion();
+    s << ",\n  \"floor\": {\"method\": " << jsonQuote(p.floor.method) << ", \"up_w\": " << vec3(p.floor.up_w)
+      << ", \"height0_m\": " << fmt(p.floor.height0) << ", \"inliers\": " << p.floor.inliers << "}"
+      << ",\n  \"grid\": {\"width\": " << p.grid.width << ", \"height\": " << p.grid.height
+      << ", \"resolution_m\": " << fmt(p.grid.resolution) << ", \"origin\": [" << fmt(p.grid.origin.x()) << ", "
+      << fmt(p.grid.origin.y()) << ", 0], \"min_height_m\": " << fmt(o.grid_min_height_m)
+      << ", \"max_height_m\": " << fmt(o.grid_max_height_m) << ", \"occupied\": " << p.grid.count(OccupancyGrid::kOccupied)
+      << ", \"free\": " << p.grid.count(OccupancyGrid::kFree) << ", \"unknown\": " << p.grid.count(OccupancyGrid::kUnknown)
+      << ", \"T_w_grid\": {\"t\": " << vec3(p.grid.T_w_grid.translation()) << ", \"q_xyzw\": [" << fmt(q.x()) << ", "
+      << fmt(q.y()) << ", " << fmt(q.z()) << ", " << fmt(q.w()) << "]}}";
+  }
+  s << ",\n  \"costs\": [";
+  for (size_t i = 0; i < p.costs.size(); ++i)
+    s << (i ? ",\n    " : "\n    ") << "{\"step\": " << jsonQuote(p.costs[i].step)
+      << ", \"seconds\": " << fmt(p.costs[i].seconds) << ", \"peak_rss_mb\": " << fmt(p.costs[i].peak_rss_mb)
+      << ", \"start_rss_mb\": " << fmt(p.costs[i].start_rss_mb) << "}";
+  s << "\n  ],\n  \"files\": [";
+  for (size_t i = 0; i < files.size(); ++i)
+    s << (i ? ",\n    " : "\n    ") << "{\"name\": "
+      << jsonQuote(std::filesystem::path(files[i].path).filename().string()) << ", \"bytes\": " << files[i].bytes << "}";
+  s << "\n  ]\n}\n";
+  return s.str();
+}
+
+std::vector<WrittenFile> writeDenseProducts(const std::string& dir, const DenseProducts& p, const DenseSelection& what,
+                                            const DenseOptions& o) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw IoError("cannot create the output folder " + dir + ": " + ec.message());
+  std::vector<WrittenFile> files;
+  const auto put = [&](const char* name, const std::string& bytes) {
+    const std::string path = (fs::path(dir) / name).string();
+    writeFileAtomically(path, bytes);
+    files.push_back({path, bytes.size()});
+  };
+  if (!p.cancelled) {
+    if (what.pcd) put(kDenseCloudPcd, cloudToPcd(p.cloud));
+    if (what.ply) put(kDenseCloudPly, cloudToSemanticPly(p.cloud));
+    if (what.octomap && p.octree) put(kOctomapBt, octreeToBt(*p.octree));
+    if (what.semantic_octomap && p.semantic_octree) put(kOctomapSemanticOt, octreeToOt(*p.semantic_octree));
+    if (what.grid && p.grid.width > 0) {
+      put(kGridPgm, gridToPgm(p.grid));
+      const std::string floor = "floor: " + p.floor.method + ", up_w " + vec3(p.floor.up_w) + ", height0 " +
+                                fmt(p.floor.height0) + " m; band " + fmt(o.grid_min_height_m) + " to " +
+                                fmt(o.grid_max_height_m) + " m above it";
+      put(kGridYaml, gridToYaml(p.grid, kGridPgm, o.grid_occupied_thresh, o.grid_free_thresh, floor));
+    } else if (what.grid) {
+      kLog.warn("no grid written: no voxel of the map lies in the height band above the floor");
+    }
+  }
+  put(kDenseSummaryJson, denseSummaryJson(p, o, files));
+  return files;
+}
+
+}  // namespace plslam

@@ -1,0 +1,136 @@
+#include "dense/floor_plane.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "core/error.h"
+#include "core/log.h"
+
+namespace plslam {
+
+namespace {
+
+constexpr size_t kMaxSample = 30000;  // RANSAC on a strided subsample: the floor is large
+constexpr int kIterations = 500;
+constexpr int kMaxPlanes = 6;
+
+struct Plane {
+  Eigen::Vector3d n;  // unit, up side
+  double d = 0;       // n . p = d on the plane
+  int inliers = 0;
+};
+
+// Least-squares plane through `pts` (smallest-eigenvalue normal), oriented along `up`.
+Plane fitPlane(const std::vector<Eigen::Vector3d>& pts, const Eigen::Vector3d& up) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const auto& p : pts) c += p;
+  c /= static_cast<double>(pts.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& p : pts) cov += (p - c) * (p - c).transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+  Plane pl;
+  pl.n = es.eigenvectors().col(0).normalized();
+  if (pl.n.dot(up) < 0) pl.n = -pl.n;
+  pl.d = pl.n.dot(c);
+  pl.inliers = static_cast<int>(pts.size());
+  return pl;
+}
+
+SE3 gridFrame(const Eigen::Vector3d& up, double height0, const SE3& T_w_c0) {
+  const Eigen::Matrix3d R = T_w_c0.rotation();
+  Eigen::Vector3d x = R.col(0) - R.col(0).dot(up) * up;
+  if (x.norm() < 1e-6) x = R.col(2) - R.col(2).dot(up) * up;  // camera looking straight down
+  x.normalize();
+  const Eigen::Vector3d y = up.cross(x);
+  Eigen::Matrix3d Rg;
+  Rg.col(0) = x;
+  Rg.col(1) = y;
+  Rg.col(2) = up;
+  const Eigen::Vector3d c0 = T_w_c0.translation();
+  const Eigen::Vector3d origin = c0 - (up.dot(c0) - height0) * up;
+  return SE3(Rg, origin);
+}
+
+FloorPlane gravityFloor(const std::vector<FusedPoint>& cloud, const SE3& T_w_c0, const std::string& method) {
+  FloorPlane f;
+  f.up_w = (T_w_c0.rotation() * Eigen::Vector3d(0, -1, 0)).normalized();
+  if (cloud.empty()) {
+    f.height0 = f.up_w.dot(T_w_c0.translation()) - 1.0;
+    f.method = method + " (empty cloud: floor 1 m below the first camera)";
+  } else {
+    std::vector<double> h;
+    h.reserve(cloud.size());
+    for (const FusedPoint& p : cloud) h.push_back(f.up_w.dot(p.p_w.cast<double>()));
+    const size_t k = static_cast<size_t>(0.02 * (h.size() - 1));
+    std::nth_element(h.begin(), h.begin() + k, h.end());
+    f.height0 = h[k];
+    f.method = method;
+  }
+  f.T_w_grid = gridFrame(f.up_w, f.height0, T_w_c0);
+  return f;
+}
+
+}  // namespace
+
+FloorPlane estimateFloor(const std::vector<FusedPoint>& cloud, const SE3& T_w_c0, const DenseOptions& o) {
+  if (o.floor == "gravity") return gravityFloor(cloud, T_w_c0, "gravity");
+  if (o.floor != "ransac") throw ConfigError("dense.floor: unknown method '" + o.floor + "' (ransac, gravity)");
+  if (cloud.size() < 3) return gravityFloor(cloud, T_w_c0, "gravity (no level plane found)");
+
+  const Eigen::Vector3d up = (T_w_c0.rotation() * Eigen::Vector3d(0, -1, 0)).normalized();
+  const size_t step = std::max<size_t>(1, cloud.size() / kMaxSample);
+  std::vector<Eigen::Vector3d> pts;
+  for (size_t i = 0; i < cloud.size(); i += step) pts.push_back(cloud[i].p_w.cast<double>());
+  const size_t total = pts.size();
+  const int min_support = std::max(3, static_cast<int>(o.floor_min_fraction * total));
+  const double cos_tilt = std::cos(o.floor_max_tilt_deg * M_PI / 180.0);
+  const double thr = o.floor_inlier_m;
+
+  std::mt19937 rng(12345);
+  std::vector<Plane> level;
+  std::vector<Eigen::Vector3d> remaining = pts;
+  for (int round = 0; round < kMaxPlanes && remaining.size() >= static_cast<size_t>(min_support); ++round) {
+    std::uniform_int_distribution<size_t> pick(0, remaining.size() - 1);
+    Plane best;
+    for (int it = 0; it < kIterations; ++it) {
+      const Eigen::Vector3d& a = remaining[pick(rng)];
+      const Eigen::Vector3d& b = remaining[pick(rng)];
+      const Eigen::Vector3d& c = remaining[pick(rng)];
+      Eigen::Vector3d n = (b - a).cross(c - a);
+      if (n.norm() < 1e-9) continue;
+      n.normalize();
+      if (n.dot(up) < 0) n = -n;
+      if (n.dot(up) < cos_tilt) continue;  // walls and slopes are no floor
+      const double d = n.dot(a);
+      int count = 0;
+      for (const auto& p : remaining) count += std::fabs(n.dot(p) - d) < thr;
+      if (count > best.inliers) best = {n, d, count};
+    }
+    if (best.inliers < min_support) break;
+    std::vector<Eigen::Vector3d> in, out;
+    for (const auto& p : remaining) (std::fabs(best.n.dot(p) - best.d) < thr ? in : out).push_back(p);
+    Plane refined = fitPlane(in, up);
+    if (refined.n.dot(up) >= cos_tilt) {
+      refined.inliers = static_cast<int>(in.size());
+      level.push_back(refined);
+    }
+    remaining.swap(out);
+  }
+  if (level.empty()) return gravityFloor(cloud, T_w_c0, "gravity (no level plane found)");
+  // The lowest level plane along the first camera's up: a table top lies above the floor.
+  const Plane* floor = &level.front();
+  for (const Plane& p : level)
+    if (p.d / p.n.dot(up) < floor->d / floor->n.dot(up)) floor = &p;
+  FloorPlane f;
+  f.up_w = floor->n;
+  f.height0 = floor->d;
+  f.method = "ransac";
+  f.inliers = floor->inliers;
+  f.candidates = static_cast<int>(level.size());
+  f.T_w_grid = gridFrame(f.up_w, f.height0, T_w_c0);
+  return f;
+}
+
+}  // namespace plslam

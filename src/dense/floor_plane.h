@@ -1,0 +1,45 @@
+// The floor under a map, for the 2D grid. The SLAM world frame is the first keyframe's
+// camera (z forward, y down), so "up" must be found:
+//   ransac   planes are fitted to the fused cloud (RANSAC, deterministic); among those
+//            within floor_max_tilt_deg of the first camera's up (-y) that hold at least
+//            floor_min_fraction of the points, the lowest along that up is the floor
+//            (a table top is higher, a wall is not level). Its normal is refined by least
+//            squares on its inliers. Without such a plane it falls back to gravity.
+//   gravity  up is the first camera's -y (the camera was held level at the start), the
+//            floor height the 2nd percentile of the points' heights along it.
+// The grid frame (T_w_grid) has z up along the floor normal, its origin on the floor below
+// the first camera's centre and x along the first camera's x axis laid onto the floor: in
+// the grid, the robot starts at (0, 0) looking along +y... (x right, y = up x right = the
+// camera's forward direction projected on the floor).
+//
+// Stateless and thread-safe.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "core/se3.h"
+#include "dense/cloud_fusion.h"
+#include "dense/dense_options.h"
+
+namespace plslam {
+
+struct FloorPlane {
+  Eigen::Vector3d up_w = Eigen::Vector3d(0, -1, 0);  ///< unit floor normal, pointing up, world frame
+  double height0 = 0;        ///< up_w . p of floor points: a point's height is up_w . p - height0
+  std::string method;        ///< "ransac", "gravity", or "gravity (no level plane found)"
+  int inliers = 0;           ///< ransac: points of the (subsampled) cloud on the plane
+  int candidates = 0;        ///< ransac: level planes considered
+  SE3 T_w_grid;              ///< the grid frame above
+
+  double height(const Eigen::Vector3d& p_w) const { return up_w.dot(p_w) - height0; }
+};
+
+/// Estimates the floor of `cloud` (world frame); T_w_c0 is the first keyframe's pose.
+/// Throws ConfigError for an unknown options.floor. An empty cloud gives the gravity up
+/// with the floor 1 m below the first camera's centre (so that products stay defined);
+/// `method` says so.
+FloorPlane estimateFloor(const std::vector<FusedPoint>& cloud, const SE3& T_w_c0, const DenseOptions& options);
+
+}  // namespace plslam

@@ -1,0 +1,211 @@
+// The module's OctoMap file: octree building, serialising and projecting.
+#include "dense/octree_maps.h"
+
+#include <octomap/ColorOcTree.h>
+#include <octomap/OcTree.h>
+
+#include <cmath>
+#include <sstream>
+#include <unordered_map>
+
+#include "core/error.h"
+#include "core/log.h"
+
+namespace plslam {
+
+namespace {
+
+template <typename Tree>
+void configure(Tree* tree, const DenseOptions& o) {
+  tree->setProbHit(o.prob_hit);
+  tree->setProbMiss(o.prob_miss);
+  tree->setOccupancyThres(o.occupied_thresh);
+}
+
+// Inserts every keyframe's cloud as a scan from its camera centre; true when all were.
+template <typename Tree>
+bool insertKeyframes(Tree* tree, const Map& map, const DenseOptions& o, const char* stage,
+                     const DenseProgress& progress) {
+  const size_t total = map.keyframes().size();
+  size_t done = 0;
+  for (const auto& [id, kf] : map.keyframes()) {
+    if (!kf.dense.empty()) {
+      octomap::Pointcloud scan;
+      scan.reserve(kf.dense.size());
+      for (const Eigen::Vector3f& p : worldPoints(kf)) scan.push_back(p.x(), p.y(), p.z());
+      const Eigen::Vector3d c = kf.T_w_c.translation();
+      // discretize: one ray per end voxel, not per point (the clouds are denser than the tree).
+      tree->insertPointCloud(scan, octomap::point3d(c.x(), c.y(), c.z()), o.max_range_m > 0 ? o.max_range_m : -1.0,
+                             /*lazy_eval=*/true, /*discretize=*/true);
+    }
+    if (progress && !progress(stage, ++done, total)) return false;
+  }
+  tree->updateInnerOccupancy();
+  return true;
+}
+
+}  // namespace
+
+std::shared_ptr<octomap::OcTree> buildOctree(const Map& map, const DenseOptions& o, const DenseProgress& progress,
+                                             bool* cancelled) {
+  auto tree = std::make_shared<octomap::OcTree>(o.octree_resolution_m);
+  configure(tree.get(), o);
+  const bool complete = insertKeyframes(tree.get(), map, o, "octomap", progress);
+  if (cancelled) *cancelled = !complete;
+  tree->prune();
+  return tree;
+}
+
+std::shared_ptr<octomap::ColorOcTree> buildSemanticOctree(const octomap::OcTree& occupancy,
+                                                          const std::vector<FusedPoint>& fused,
+                                                          const DenseOptions& o) {
+  auto tree = std::make_shared<octomap::ColorOcTree>(occupancy.getResolution());
+  configure(tree.get(), o);
+  // The occupancy is copied leaf by leaf (pruned leaves expanded): much cheaper than casting
+  // every keyframe's rays a second time.
+  const double res = occupancy.getResolution();
+  const unsigned max_depth = occupancy.getTreeDepth();
+  for (auto it = occupancy.begin_leafs(), end = occupancy.end_leafs(); it != end; ++it) {
+    const float log_odds = it->getLogOdds();
+    if (it.getDepth() == max_depth) {
+      tree->setNodeValue(it.getKey(), log_odds, /*lazy_eval=*/true);
+      continue;
+    }
+    const int n = 1 << (max_depth - it.getDepth());
+    const double size = it.getSize();
+    const octomap::point3d c = it.getCoordinate();
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        for (int k = 0; k < n; ++k) {
+          const octomap::OcTreeKey key =
+              tree->coordToKey(c.x() - size / 2 + (i + 0.5) * res, c.y() - size / 2 + (j + 0.5) * res,
+                               c.z() - size / 2 + (k + 0.5) * res);
+          tree->setNodeValue(key, log_odds, /*lazy_eval=*/true);
+        }
+  }
+  tree->updateInnerOccupancy();
+
+  // Votes per voxel: the most frequent class wins; unlabelled points give grey luminance.
+  struct Votes {
+    std::vector<std::pair<int16_t, int>> classes;
+    double luminance = 0;
+    int unlabelled = 0;
+  };
+  std::unordered_map<octomap::OcTreeKey, Votes, octomap::OcTreeKey::KeyHash> votes;
+  std::vector<octomap::OcTreeKey> order;  // first-touched order: deterministic colouring
+  for (const FusedPoint& p : fused) {
+    octomap::OcTreeKey key;
+    if (!tree->coordToKeyChecked(p.p_w.x(), p.p_w.y(), p.p_w.z(), key)) continue;
+    auto [it, inserted] = votes.try_emplace(key);
+    if (inserted) order.push_back(key);
+    Votes& v = it->second;
+    const int weight = std::max(1, p.points);
+    if (p.class_id < 0) {
+      v.luminance += weight * semanticColour(p).r;
+      v.unlabelled += weight;
+    }
+    bool found = false;
+    for (auto& c : v.classes)
+      if (c.first == p.class_id) c.second += weight, found = true;
+    if (!found) v.classes.push_back({p.class_id, weight});
+  }
+  for (const octomap::OcTreeKey& key : order) {
+    octomap::ColorOcTreeNode* node = tree->search(key);
+    if (!node || !tree->isNodeOccupied(node)) continue;
+    const Votes& v = votes[key];
+    int16_t best = -1;
+    int best_votes = -1;
+    for (const auto& c : v.classes)
+      if (c.second > best_votes || (c.second == best_votes && c.first > best)) best = c.first, best_votes = c.second;
+    Rgb colour = classColour(best);
+    if (best < 0 && v.unlabelled > 0) {
+      const auto y = static_cast<uint8_t>(std::lround(v.luminance / v.unlabelled));
+      colour = {y, y, y};
+    }
+    node->setColor(colour.r, colour.g, colour.b);
+  }
+  tree->updateInnerOccupancy();
+  tree->prune();
+  return tree;
+}
+
+std::string octreeToBt(const octomap::OcTree& tree) {
+  std::ostringstream s;
+  if (!tree.writeBinaryConst(s)) throw IoError("octomap: writing the binary tree failed");
+  return s.str();
+}
+
+std::string octreeToOt(const octomap::ColorOcTree& tree) {
+  std::ostringstream s;
+  if (!tree.write(s)) throw IoError("octomap: writing the colour tree failed");
+  return s.str();
+}
+
+OccupancyGrid projectToGrid(const octomap::OcTree& tree, const FloorPlane& floor, const DenseOptions& o) {
+  const SE3 T_grid_w = floor.T_w_grid.inverse();
+  const Eigen::Matrix3d R = T_grid_w.rotation();
+  const Eigen::Vector3d t = T_grid_w.translation();
+  const double res = o.grid_resolution_m, hmin = o.grid_min_height_m, hmax = o.grid_max_height_m;
+  const double sample = 0.5 * std::min(res, o.octree_resolution_m);
+
+  // Cell (integer grid-frame coordinates) -> state; occupied wins over free.
+  std::unordered_map<int64_t, int8_t> marks;
+  const auto cellKey = [](int64_t cx, int64_t cy) { return (cx << 32) ^ (cy & 0xffffffffLL); };
+  for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
+    const double size = it.getSize();
+    const bool occupied = tree.isNodeOccupied(*it);
+    const octomap::point3d c = it.getCoordinate();
+    const Eigen::Vector3d cg = R * Eigen::Vector3d(c.x(), c.y(), c.z()) + t;
+    const double reach = 0.8661 * size;  // half the voxel's diagonal
+    if (cg.z() + reach < hmin || cg.z() - reach > hmax) continue;
+    const int n = std::max(1, static_cast<int>(std::ceil(size / sample - 1e-9)));
+    const double step = size / n;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        for (int k = 0; k < n; ++k) {
+          const Eigen::Vector3d off((i + 0.5) * step - 0.5 * size, (j + 0.5) * step - 0.5 * size,
+                                    (k + 0.5) * step - 0.5 * size);
+          const Eigen::Vector3d pg = cg + R * off;
+          if (pg.z() < hmin || pg.z() > hmax) continue;
+          const int64_t key = cellKey(static_cast<int64_t>(std::floor(pg.x() / res)),
+                                      static_cast<int64_t>(std::floor(pg.y() / res)));
+          if (occupied) marks[key] = OccupancyGrid::kOccupied;
+          else marks.emplace(key, OccupancyGrid::kFree);
+        }
+  }
+
+  OccupancyGrid g;
+  g.resolution = res;
+  g.T_w_grid = floor.T_w_grid;
+  if (marks.empty()) return g;
+  int64_t x0 = INT64_MAX, y0 = INT64_MAX, x1 = INT64_MIN, y1 = INT64_MIN;
+  for (const auto& [key, state] : marks) {
+    const int64_t cx = key >> 32, cy = static_cast<int32_t>(key & 0xffffffff);
+    x0 = std::min(x0, cx), x1 = std::max(x1, cx), y0 = std::min(y0, cy), y1 = std::max(y1, cy);
+  }
+  g.width = static_cast<int>(x1 - x0 + 1);
+  g.height = static_cast<int>(y1 - y0 + 1);
+  g.origin = Eigen::Vector2d(x0 * res, y0 * res);
+  g.cells.assign(static_cast<size_t>(g.width) * g.height, OccupancyGrid::kUnknown);
+  for (const auto& [key, state] : marks) {
+    const int64_t cx = key >> 32, cy = static_cast<int32_t>(key & 0xffffffff);
+    g.at(static_cast<int>(cx - x0), static_cast<int>(cy - y0)) = state;
+  }
+  return g;
+}
+
+OctreeSummary summarizeOctree(const octomap::OcTree& tree) {
+  OctreeSummary s;
+  for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it)
+    (tree.isNodeOccupied(*it) ? s.occupied_leaves : s.free_leaves)++;
+  s.memory_bytes = tree.memoryUsage();
+  return s;
+}
+
+int voxelState(const octomap::OcTree& tree, const Eigen::Vector3d& p) {
+  const octomap::OcTreeNode* node = tree.search(p.x(), p.y(), p.z());
+  if (!node) return -1;
+  return tree.isNodeOccupied(node) ? 1 : 0;
+}
+
+}  // namespace plslam

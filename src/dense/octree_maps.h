@@ -1,0 +1,65 @@
+// OctoMaps of a map's dense clouds and the 2D grid projected from them.
+//
+//   octomap.bt            octomap::OcTree, binary (writeBinary: occupied / free / unknown),
+//                         pruned; every keyframe's cloud inserted as a scan from its camera
+//                         centre (insertPointCloud, rays cut at max_range_m), so space the
+//                         camera looked through is free and surfaces are occupied.
+//   octomap_semantic.ot   octomap::ColorOcTree (write: full log-odds and colours), the same
+//                         occupancy; each occupied voxel coloured with the semantic colour of
+//                         the fused points in it (dense/cloud_fusion.h: palette colour of the
+//                         most frequent class, grey luminance for points without class).
+// Moving objects are not in the keyframe clouds (dynamic pixels are left out), so they
+// leave no occupied voxels.
+//
+// The octomap types are only declared here: include <octomap/OcTree.h> /
+// <octomap/ColorOcTree.h> to use the trees (plslam_dense links octomap).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/map.h"
+#include "dense/cloud_fusion.h"
+#include "dense/dense_options.h"
+#include "dense/floor_plane.h"
+#include "dense/occupancy_grid.h"
+
+namespace octomap {
+class OcTree;
+class ColorOcTree;
+}  // namespace octomap
+
+namespace plslam {
+
+/// The occupancy octree of every keyframe's cloud (final poses). Same caller duty as
+/// fuseCloud(); `cancelled` (may be null) is set when progress stopped it (tree partial).
+std::shared_ptr<octomap::OcTree> buildOctree(const Map& map, const DenseOptions& options,
+                                             const DenseProgress& progress = {}, bool* cancelled = nullptr);
+/// The occupancy of `occupancy` in a ColorOcTree, occupied voxels coloured from `fused`
+/// (see above).
+std::shared_ptr<octomap::ColorOcTree> buildSemanticOctree(const octomap::OcTree& occupancy,
+                                                          const std::vector<FusedPoint>& fused,
+                                                          const DenseOptions& options);
+
+/// File contents: OcTree::writeBinary (.bt) and ColorOcTree::write (.ot).
+std::string octreeToBt(const octomap::OcTree& tree);
+std::string octreeToOt(const octomap::ColorOcTree& tree);
+
+/// The 2D grid between grid_min_height_m and grid_max_height_m above `floor`: a cell is
+/// occupied when any occupied voxel of that band lies over it, free when voxels of the band
+/// over it were seen free and none occupied, unknown otherwise. Voxels are sampled at half
+/// the cell size so that none falls between cells of the (possibly tilted) floor frame.
+OccupancyGrid projectToGrid(const octomap::OcTree& tree, const FloorPlane& floor, const DenseOptions& options);
+
+/// What an octree holds, for summaries.
+struct OctreeSummary {
+  size_t occupied_leaves = 0, free_leaves = 0;
+  size_t memory_bytes = 0;  ///< octomap's own estimate (memoryUsage())
+};
+OctreeSummary summarizeOctree(const octomap::OcTree& tree);
+
+/// The state of the voxel holding world point p: -1 unknown, 0 free, 1 occupied.
+int voxelState(const octomap::OcTree& tree, const Eigen::Vector3d& p_w);
+
+}  // namespace plslam

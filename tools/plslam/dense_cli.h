@@ -1,0 +1,19 @@
+// The dense products from the command line, shared by `plslam run` (at the end of a run)
+// and `plslam export` (from a saved map): a progress line on stderr, Ctrl-C stopping the
+// build without leaving a partial file, and a summary of time, memory and file sizes.
+#pragma once
+
+#include <string>
+
+#include "core/map.h"
+#include "dense/dense_products.h"
+
+namespace plslam::cli {
+
+/// Builds the selected products of `map` and writes them into `dir`. Prints one line per
+/// step (time, peak resident memory) and per file (size) on stdout. Returns false when
+/// Ctrl-C stopped it (then only dense_products.json, marked cancelled, is written).
+bool writeDenseMaps(const Map& map, const DenseOptions& options, const DenseSelection& what, const std::string& dir,
+                    bool progress);
+
+}  // namespace plslam::cli
