@@ -1,0 +1,122 @@
+#include "live/live_loop.h"
+
+#include <atomic>
+#include <chrono>
+#include <exception>
+#include <memory>
+#include <optional>
+#include <thread>
+
+#include "core/bounded_queue.h"
+#include "core/error.h"
+#include "core/json.h"
+#include "core/log.h"
+
+namespace plslam {
+
+namespace {
+const Logger kLog("live");
+}
+
+const char* toString(LiveStop stop) {
+  switch (stop) {
+    case LiveStop::kEndOfStream: return "end_of_stream";
+    case LiveStop::kFrameLimit: return "frame_limit";
+    case LiveStop::kDuration: return "duration";
+    case LiveStop::kInterrupted: return "interrupted";
+  }
+  return "?";
+}
+
+LiveStats runLive(FrameGrabber* grabber, System* slam, const LiveOptions& options, const std::function<bool()>& stop,
+                  const std::function<void(const LiveProgress&)>& progress, int progress_period_ms,
+                  const PinholeCamera* recording_camera) {
+  using Clock = std::chrono::steady_clock;
+  BoundedQueue<RgbdFrame> queue(options.queue, options.drop_frames ? QueuePolicy::kDropOldest : QueuePolicy::kBlock);
+  std::unique_ptr<TumRecorder> recorder;
+  if (!options.record_dir.empty())
+    recorder = std::make_unique<TumRecorder>(options.record_dir,
+                                             recording_camera ? *recording_camera : grabber->intrinsics(),
+                                             options.recorder);
+
+  LiveStats stats;
+  std::atomic<int> grabbed{0};
+  std::atomic<bool> slam_failed{false};
+  std::exception_ptr grab_failure;
+  const Clock::time_point start = Clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+
+  // Grabber thread: grab, record, push. Ends the stream by closing the queue.
+  std::thread grab_thread([&] {
+    try {
+      RgbdFrame frame;
+      while (true) {
+        if (stop && stop()) {
+          stats.stop = LiveStop::kInterrupted;
+          break;
+        }
+        if (slam_failed) break;
+        if (options.max_frames > 0 && grabbed >= options.max_frames) {
+          stats.stop = LiveStop::kFrameLimit;
+          break;
+        }
+        if (options.duration_s > 0 && elapsed() >= options.duration_s) {
+          stats.stop = LiveStop::kDuration;
+          break;
+        }
+        if (!grabber->grab(&frame)) {
+          stats.stop = LiveStop::kEndOfStream;
+          break;
+        }
+        if (recorder) recorder->add(frame);
+        ++grabbed;
+        queue.push(frame);
+        frame = RgbdFrame();  // the queued frame owns its images now
+      }
+    } catch (...) {
+      grab_failure = std::current_exception();
+    }
+    queue.close();
+  });
+
+  // SLAM thread (this one): pop and track until the stream is closed and drained.
+  Clock::time_point last_progress = Clock::now();
+  std::exception_ptr slam_failure;
+  try {
+    while (auto frame = queue.pop()) {
+      const TrackingResult r = slam->feed(*frame);
+      ++stats.processed;
+      if (isTracked(r.status)) ++stats.tracked;
+      if (progress && Clock::now() - last_progress >= std::chrono::milliseconds(progress_period_ms)) {
+        last_progress = Clock::now();
+        progress({grabbed.load(), stats.processed, static_cast<int>(queue.dropped()), stats.tracked, elapsed()});
+      }
+    }
+  } catch (...) {
+    slam_failure = std::current_exception();
+    slam_failed = true;
+    queue.close();
+  }
+  grab_thread.join();
+  stats.seconds = elapsed();
+  stats.grabbed = grabbed.load();
+  stats.dropped = static_cast<int>(queue.dropped());
+  if (recorder) {
+    recorder->close();
+    stats.recorded = recorder->written();
+  }
+  if (progress) progress({stats.grabbed, stats.processed, stats.dropped, stats.tracked, stats.seconds});
+  if (slam_failure) std::rethrow_exception(slam_failure);
+  if (grab_failure) std::rethrow_exception(grab_failure);
+  kLog.info(str("live: grabbed ", stats.grabbed, ", processed ", stats.processed, ", dropped ", stats.dropped,
+                " in ", stats.seconds, " s (", toString(stats.stop), ")"));
+  return stats;
+}
+
+std::string liveStatsJson(const LiveStats& s) {
+  return str("\"live_grabbed\": ", s.grabbed, ", \"live_processed\": ", s.processed, ", \"live_dropped\": ", s.dropped,
+             ", \"live_recorded\": ", s.recorded, ", \"live_seconds\": ", s.seconds,
+             ", \"live_stop\": ", jsonQuote(toString(s.stop)));
+}
+
+}  // namespace plslam

@@ -1,0 +1,121 @@
+// plslam live: SLAM on frames straight from the camera (Intel RealSense through ViSP), or
+// from a recorded folder played at camera rate (--fake), with the outputs of plslam run.
+#include <cstdio>
+#include <memory>
+
+#include "camera/camera_file.h"
+#include "capture/frame_grabber.h"
+#include "capture/replay_grabber.h"
+#include "commands.h"
+#include "core/error.h"
+#include "core/log.h"
+#include "live/live_loop.h"
+#include "run_session.h"
+#include "system/run_outputs.h"
+#include "system/system.h"
+
+namespace plslam::cli {
+
+namespace {
+
+/// The frame source of live/record: the RealSense, or a replayed folder with --fake.
+std::unique_ptr<FrameGrabber> openGrabber(const Args& args) {
+  std::unique_ptr<FrameGrabber> grabber;
+  if (args.has("fake")) {
+    ReplayOptions ropt;
+    ropt.speed = args.number("fake-speed");
+    if (ropt.speed < 0) throw ConfigError("--fake-speed must be >= 0 (0: as fast as it is read)");
+    grabber = std::make_unique<ReplayGrabber>(args.str("fake"), ropt);
+  } else {
+    grabber = makeRealSenseGrabber();  // ConfigError naming what is missing when unavailable
+  }
+  grabber->open();
+  return grabber;
+}
+
+int runLiveCommand(int argc, char** argv) {
+  Args args("live", "Point-line RGB-D SLAM on the live camera (Intel RealSense D435i through ViSP).");
+  args.option("out", "output folder (created if needed)", "", true)
+      .option("calib", "camera file (ViSP XML) to use instead of the device's intrinsics")
+      .option("record", "also record every grabbed frame as a TUM folder here")
+      .option("duration", "stop after this many seconds (0: until Ctrl-C)", "0")
+      .option("max-frames", "stop after this many grabbed frames (0: no limit)", "0")
+      .option("queue", "frames waiting for tracking before the oldest is dropped", "2")
+      .flag("no-drop", "never drop frames: the grabber waits for tracking")
+      .flag("sequential", "deterministic single-thread System; implies --no-drop, so plslam run --sequential on the "
+                          "--record folder gives the same trajectory")
+      .option("config", "YAML run options (as plslam run)")
+      .flag("no-lines", "points only: no line features")
+      .option("fake", "testing: play this recorded TUM folder (with camera.xml) at camera rate instead of the camera")
+      .option("fake-speed", "testing: playback speed of --fake (1 = its stamps, 0 = as fast as it is read)", "1")
+      .option("log-level", "debug, info, warn, error or off", "warn")
+      .flag("quiet", "no progress line")
+      .epilog(
+          "outputs: as plslam run (trajectory.txt, keyframes.txt, sparse_map.ply, stats.json with the live_* frame "
+          "counts, config.yaml).\nCtrl-C stops and still writes what there is.\n"
+          "Needs ViSP built with librealsense2; without it (Debian's ViSP) this prints why and exits with status 2.\n\n"
+          "example: plslam live --out maps/office --record recordings/office --duration 60");
+  if (!args.parse(argc, argv)) return 0;
+  setLogLevel(parseLogLevel(args.str("log-level")));
+
+  SystemOptions options;
+  OptionTable table;
+  loadRunConfig(args.has("config") ? args.str("config") : std::string(), &options, &table);
+  if (args.has("no-lines")) options.use_lines = false;
+  LiveOptions live;
+  if (args.has("sequential")) options.sequential = true;
+  live.drop_frames = !(args.has("no-drop") || args.has("sequential"));
+  live.queue = args.integer("queue", 1, 1000);
+  live.duration_s = args.number("duration");
+  live.max_frames = args.integer("max-frames", 0, 100000000);
+  if (args.has("record")) live.record_dir = args.str("record");
+
+  std::unique_ptr<FrameGrabber> grabber = openGrabber(args);
+  const PinholeCamera device = grabber->intrinsics();
+  PinholeCamera camera = device;
+  if (args.has("calib")) {
+    camera = loadCameraFile(args.str("calib"));
+    checkImageSize(camera, device.width, device.height, grabber->name());
+  }
+  // The recording keeps the device's depth scale, so its depth PNGs are the sensor's values.
+  PinholeCamera recording = camera;
+  recording.depth_scale = device.depth_scale;
+
+  System slam(camera, options);
+  slam.start();
+  const bool progress = !args.has("quiet");
+  LiveStats stats;
+  {
+    SigintGuard sigint;
+    stats = runLive(
+        grabber.get(), &slam, live, [] { return SigintGuard::interrupted(); },
+        [&](const LiveProgress& p) {
+          if (!progress) return;
+          std::fprintf(stderr, "\r[live] grabbed %d  processed %d  dropped %d  tracked %d  %.1f s  ", p.grabbed,
+                       p.processed, p.dropped, p.tracked, p.seconds);
+          std::fflush(stderr);
+        },
+        500, &recording);
+    if (progress) std::fprintf(stderr, "\n");
+  }
+  grabber->close();
+  slam.finish();
+  const std::string out = args.str("out");
+  writeRunOutputs(out, slam, table.toYaml("plslam live: effective configuration"), liveStatsJson(stats));
+
+  const RunStats st = slam.stats();
+  const Summary tms = summarize(st.tracking_ms);
+  std::printf("frames grabbed %d, processed %d, dropped %d (%s); tracked %d, keyframes %d, lost %d\n", stats.grabbed,
+              stats.processed, stats.dropped, toString(stats.stop), st.tracked, st.keyframes, st.lost_events);
+  std::printf("tracking %.1f ms/frame median, %.1f p95; %.1f s, %.1f frames/s processed\n", tms.median, tms.p95,
+              stats.seconds, stats.seconds > 0 ? stats.processed / stats.seconds : 0.0);
+  if (!live.record_dir.empty()) std::printf("recorded %d frames: %s\n", stats.recorded, live.record_dir.c_str());
+  std::printf("outputs: %s\n", out.c_str());
+  return stats.stop == LiveStop::kInterrupted ? 130 : 0;
+}
+
+}  // namespace
+
+Command makeLiveCommand() { return {"live", "SLAM on the live RealSense camera (or a folder played as one)", runLiveCommand}; }
+
+}  // namespace plslam::cli
