@@ -7,7 +7,7 @@
 set(PLSLAM_MODULES "" CACHE INTERNAL "")
 
 add_library(plslam_warnings INTERFACE)
-target_compile_options(plslam_warnings INTERFACE -Wall -Wextra -Wshadow=local -Wnon-virtual-dtor)
+target_compile_options(plslam_warnings INTERFACE -Wall -Wextra $<IF:$<CXX_COMPILER_ID:GNU>,-Wshadow=local,-Wshadow> -Wnon-virtual-dtor)
 if(PLSLAM_WERROR)
   target_compile_options(plslam_warnings INTERFACE -Werror)
 endif()
@@ -21,7 +21,9 @@ function(plslam_add_module name)
     list(APPEND deps plslam_${d})
   endforeach()
   target_link_libraries(plslam_${name} PUBLIC ${deps} ${M_LIBS} PRIVATE plslam_warnings)
-  target_link_options(plslam_${name} PRIVATE -Wl,--no-undefined)
+  if(PLSLAM_NO_UNDEFINED OR NOT DEFINED PLSLAM_NO_UNDEFINED)
+    target_link_options(plslam_${name} PRIVATE -Wl,--no-undefined)
+  endif()
   set_target_properties(plslam_${name} PROPERTIES OUTPUT_NAME plslam_${name})
 
   # Include check: "module/header.h" may name only this module or a declared dependency

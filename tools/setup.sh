@@ -15,6 +15,7 @@ packages=(
   build-essential cmake ninja-build ccache pkg-config
   libeigen3-dev libopencv-dev libopencv-contrib-dev libvisp-dev libceres-dev
   libpcl-dev liboctomap-dev libapriltag-dev libgtest-dev libgmock-dev libbenchmark-dev
+  clang libclang-rt-14-dev  # libFuzzer and clang's sanitizer runtimes (fuzz/, CMakePresets.json `fuzz`)
 )
 
 missing=()

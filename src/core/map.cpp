@@ -1,8 +1,44 @@
 #include "core/map.h"
 
 #include <algorithm>
+#include <string>
+
+#include "core/error.h"
 
 namespace plslam {
+
+Map::Map(Map&& other) noexcept { *this = std::move(other); }
+
+Map& Map::operator=(Map&& other) noexcept {
+  if (this == &other) return *this;
+  keyframes_ = std::move(other.keyframes_);
+  points_ = std::move(other.points_);
+  lines_ = std::move(other.lines_);
+  next_keyframe_id_ = other.next_keyframe_id_;
+  next_point_id_ = other.next_point_id_;
+  next_line_id_ = other.next_line_id_;
+  other.keyframes_.clear();
+  other.points_.clear();
+  other.lines_.clear();
+  other.next_keyframe_id_ = other.next_point_id_ = other.next_line_id_ = 0;
+  return *this;
+}
+
+namespace {
+template <typename T>
+Id restoreInto(std::map<Id, T>* entities, Id* next_id, T entity, const char* what) {
+  const Id id = entity.id;
+  if (id < 0) throw DataError(std::string("Map: cannot restore a ") + what + " with id " + std::to_string(id));
+  if (entities->count(id)) throw DataError(std::string("Map: ") + what + " id " + std::to_string(id) + " restored twice");
+  entities->emplace(id, std::move(entity));
+  *next_id = std::max(*next_id, id + 1);
+  return id;
+}
+}  // namespace
+
+Id Map::restoreKeyFrame(KeyFrame kf) { return restoreInto(&keyframes_, &next_keyframe_id_, std::move(kf), "keyframe"); }
+Id Map::restorePoint(MapPoint p) { return restoreInto(&points_, &next_point_id_, std::move(p), "map point"); }
+Id Map::restoreLine(MapLine l) { return restoreInto(&lines_, &next_line_id_, std::move(l), "map line"); }
 
 Id Map::addKeyFrame(KeyFrame kf) {
   kf.id = next_keyframe_id_++;

@@ -101,11 +101,24 @@ struct MapLine {
 
 class Map {
  public:
+  Map() = default;
+  /// Moves the entities and id counters; the mutex is not moved (each map has its own).
+  /// Neither map may be in use by another thread.
+  Map(Map&& other) noexcept;
+  Map& operator=(Map&& other) noexcept;
+
   std::mutex& mutex() const { return mutex_; }
 
   Id addKeyFrame(KeyFrame kf);
   Id addPoint(MapPoint p);
   Id addLine(MapLine l);
+  /// Put back an entity with the id it already has (loading a saved map): ids and
+  /// observations are kept as given, and later add*() calls get larger ids. Throws
+  /// DataError on a negative or already used id. The caller restores both sides of every
+  /// observation (mapfile checks them).
+  Id restoreKeyFrame(KeyFrame kf);
+  Id restorePoint(MapPoint p);
+  Id restoreLine(MapLine l);
   /// Records that keypoint `index` of keyframe `kf` observes point `pt` (both sides).
   void addPointObservation(Id kf, int index, Id pt);
   void addLineObservation(Id kf, int index, Id line);

@@ -12,8 +12,10 @@ bool parseSecondsStamp(const std::string& text, TimeNs* t_ns) {
   int64_t frac_ns = 0;
   bool digits = false;
   for (; i < text.size() && std::isdigit(static_cast<unsigned char>(text[i])); ++i) {
-    if (whole > 9'000'000'000LL) return false;  // beyond ~285 years of ns
     whole = whole * 10 + (text[i] - '0');
+    // Beyond ~285 years: whole * kNsPerSecond would overflow int64 (checked after each
+    // digit, so `whole` itself never exceeds 9e10).
+    if (whole > 9'000'000'000LL) return false;
     digits = true;
   }
   if (i < text.size() && text[i] == '.') {

@@ -27,9 +27,21 @@ const char* toString(TrackingStatus s) {
 }
 
 Tracker::Tracker(Map* map, PinholeCamera camera, TrackerOptions options)
-    : map_(map), camera_(std::move(camera)), options_(options), optimizer_(options.optimizer) {}
+    : map_(map), camera_(std::move(camera)), options_(options), optimizer_(options.optimizer) {
+  std::lock_guard<std::mutex> lock(map_->mutex());
+  if (!map_->keyframes().empty()) {
+    // A loaded map: start lost, so the first frame is placed by relocalisation in it.
+    have_last_ = lost_ = search_all_keyframes_ = true;
+    reference_kf_ = map_->keyframes().begin()->first;
+  }
+}
 
 TrackingResult Tracker::track(TimeNs t_ns, const FrameFeatures& f) {
+  if (!have_last_ && options_.localization_only) {
+    TrackingResult r;
+    r.reason = "localisation only, and the map is empty";
+    return r;
+  }
   if (!have_last_) return initialise(t_ns, f);
   TrackingResult r;
   if (static_cast<int>(f.points.size()) + static_cast<int>(f.lines.size()) < options_.min_inliers) {
@@ -70,18 +82,24 @@ TrackingResult Tracker::track(TimeNs t_ns, const FrameFeatures& f) {
     have_velocity_ = false;
     return r;
   }
+  const bool relocalised = lost_;
   if (lost_) {
     ++relocalisations_;
     kLog.info(str("relocalised at t=", formatSecondsStamp(t_ns)));
   }
   lost_ = false;
-  {
+  search_all_keyframes_ = false;
+  if (!options_.localization_only) {
     // Landmarks predicted in view were counted as visible in the search; these were found.
     std::lock_guard<std::mutex> lock(map_->mutex());
     for (Id id : m.point_ids)
       if (MapPoint* p = id == kNoId ? nullptr : map_->point(id)) ++p->found, ++r.matched_points;
     for (Id id : m.line_ids)
       if (MapLine* l = id == kNoId ? nullptr : map_->line(id)) ++l->found, ++r.matched_lines;
+  } else {
+    r.matched_points = static_cast<int>(m.point_ids.size() - std::count(m.point_ids.begin(), m.point_ids.end(), kNoId));
+    r.matched_lines = static_cast<int>(m.line_ids.size() - std::count(m.line_ids.begin(), m.line_ids.end(), kNoId));
+    updateReferenceKeyframe(m);
   }
   r.inliers = r.matched_points + r.matched_lines;
   r.T_w_c = T_w_c;
@@ -89,10 +107,10 @@ TrackingResult Tracker::track(TimeNs t_ns, const FrameFeatures& f) {
     kLog.debug(str("t=", formatSecondsStamp(t_ns), " points ", f.points.size(), " matched ", r.matched_points, " lines ",
                    f.lines.size(), " matched ", r.matched_lines, " moved ", (T_w_last_.inverse() * T_w_c).translation().norm()));
   velocity_ = T_w_last_.inverse() * T_w_c;
-  have_velocity_ = true;
+  have_velocity_ = !relocalised;  // the last pose before the loss says nothing of the motion now
   T_w_last_ = T_w_c;
   ++frames_since_kf_;
-  if (needKeyframe(T_w_c, r.inliers)) {
+  if (!options_.localization_only && needKeyframe(T_w_c, r.inliers)) {
     r.keyframe_id = makeKeyframe(t_ns, T_w_c, f, m);
     r.new_keyframe = true;
   }
@@ -137,9 +155,32 @@ std::vector<Id> Tracker::localKeyframes() const {
   const auto cov = map_->covisible(reference_kf_, 15);
   for (size_t i = 0; i < cov.size() && static_cast<int>(i) < options_.local_keyframes; ++i) add(cov[i].first);
   const auto& kfs = map_->keyframes();
+  if (options_.localization_only) {
+    // No new keyframes: the reference's neighbours in time stand in for the recent ones.
+    auto after = kfs.upper_bound(reference_kf_);
+    auto before = kfs.lower_bound(reference_kf_);
+    for (int n = 0; n < options_.local_keyframes / 2;) {
+      const bool more_after = after != kfs.end(), more_before = before != kfs.begin();
+      if (!more_after && !more_before) break;
+      if (more_after) add((after++)->first), ++n;
+      if (more_before) add((--before)->first), ++n;
+    }
+    return out;
+  }
   int recent = 0;
   for (auto it = kfs.rbegin(); it != kfs.rend() && recent < options_.local_keyframes / 2; ++it, ++recent) add(it->first);
   return out;
+}
+
+void Tracker::updateReferenceKeyframe(const Matches& m) {
+  std::lock_guard<std::mutex> lock(map_->mutex());
+  std::map<Id, int> shared;
+  for (Id id : m.point_ids)
+    if (const MapPoint* p = id == kNoId ? nullptr : map_->point(id))
+      for (const auto& [kf, idx] : p->observations) ++shared[kf];
+  int best = 0;
+  for (const auto& [kf, n] : shared)
+    if (n > best) best = n, reference_kf_ = kf;
 }
 
 void Tracker::searchLocalMap(const SE3& T_w_c, const FrameFeatures& f, double radius, Matches* m, bool count_visible) {
@@ -173,7 +214,7 @@ void Tracker::searchLocalMap(const SE3& T_w_c, const FrameFeatures& f, double ra
     if (p_c.z() < 0.1) continue;
     const Eigen::Vector2d uv = camera_.projectIdeal(p_c);
     if (!camera_.inImage(uv)) continue;
-    if (count_visible) ++p->visible;
+    if (count_visible && !options_.localization_only) ++p->visible;
     if (matched_points.count(id)) continue;
     predicted_ids.push_back(id);
     predictions.push_back({uv, -1});
@@ -215,7 +256,7 @@ void Tracker::searchLocalMap(const SE3& T_w_c, const FrameFeatures& f, double ra
     if (Q.z() < 0.1) Q = P + (Q - P) * ((P.z() - 0.1) / (P.z() - Q.z()));
     const Eigen::Vector2d p = camera_.projectIdeal(P), q = camera_.projectIdeal(Q);
     if (!camera_.inImage(p) && !camera_.inImage(q) && !camera_.inImage(0.5 * (p + q))) continue;
-    if (count_visible) ++l->visible;
+    if (count_visible && !options_.localization_only) ++l->visible;
     if (matched_lines.count(id)) continue;
     line_pred_ids.push_back(id);
     line_preds.push_back(LineSegment2D::fromEndpoints(p, q));
@@ -282,33 +323,45 @@ PoseOnlyResult Tracker::optimise(const SE3& T_w_c, const FrameFeatures& f, Match
 
 bool Tracker::relocalise(const FrameFeatures& f, SE3* T_w_c, Matches* m) {
   if (f.points.size() < 30) return false;
-  std::vector<Id> candidates;
+  // Descriptor matches of the frame with candidate keyframes' map points: the 8 most
+  // recent keyframes, or every keyframe (most matches first) in a loaded map.
+  struct Candidate {
+    Id kf;
+    std::vector<cv::Point3f> object;
+    std::vector<cv::Point2f> image;
+    std::vector<std::pair<int, Id>> pairs;  // (keypoint index, map point)
+  };
+  std::vector<Candidate> candidates;
+  const bool all = search_all_keyframes_ || options_.localization_only;
   {
     std::lock_guard<std::mutex> lock(map_->mutex());
     const auto& kfs = map_->keyframes();
     int n = 0;
-    for (auto it = kfs.rbegin(); it != kfs.rend() && n < 8; ++it, ++n) candidates.push_back(it->first);
-  }
-  for (Id kf : candidates) {
-    std::vector<cv::Point3f> object;
-    std::vector<cv::Point2f> image;
-    std::vector<std::pair<int, Id>> pairs;  // (keypoint index, map point)
-    {
-      std::lock_guard<std::mutex> lock(map_->mutex());
-      const KeyFrame* k = map_->keyframe(kf);
-      if (!k) continue;
+    for (auto it = kfs.rbegin(); it != kfs.rend() && (all || n < 8); ++it, ++n) {
+      const KeyFrame& k = it->second;
+      Candidate c{it->first, {}, {}, {}};
       BruteForceOptions bo;
       bo.max_distance = options_.max_descriptor_distance;
       bo.ratio = options_.ratio;
-      for (const DescriptorMatch& dm : matchBruteForce(k->features.point_descriptors, f.point_descriptors, bo)) {
-        if (k->point_ids[dm.query] == kNoId) continue;
-        const MapPoint* p = map_->point(k->point_ids[dm.query]);
+      for (const DescriptorMatch& dm : matchBruteForce(k.features.point_descriptors, f.point_descriptors, bo)) {
+        if (k.point_ids[dm.query] == kNoId) continue;
+        const MapPoint* p = map_->point(k.point_ids[dm.query]);
         if (!p) continue;
-        object.emplace_back(p->p_w.x(), p->p_w.y(), p->p_w.z());
-        image.emplace_back(f.points[dm.train].uv.x(), f.points[dm.train].uv.y());
-        pairs.emplace_back(dm.train, p->id);
+        c.object.emplace_back(p->p_w.x(), p->p_w.y(), p->p_w.z());
+        c.image.emplace_back(f.points[dm.train].uv.x(), f.points[dm.train].uv.y());
+        c.pairs.emplace_back(dm.train, p->id);
       }
+      candidates.push_back(std::move(c));
     }
+  }
+  if (all)
+    std::stable_sort(candidates.begin(), candidates.end(),
+                     [](const Candidate& a, const Candidate& b) { return a.object.size() > b.object.size(); });
+  for (const Candidate& cand : candidates) {
+    const Id kf = cand.kf;
+    const std::vector<cv::Point3f>& object = cand.object;
+    const std::vector<cv::Point2f>& image = cand.image;
+    const std::vector<std::pair<int, Id>>& pairs = cand.pairs;
     if (object.size() < 30) continue;
     cv::Mat rvec, tvec;
     std::vector<int> inliers;
@@ -328,6 +381,7 @@ bool Tracker::relocalise(const FrameFeatures& f, SE3* T_w_c, Matches* m) {
     for (int i : inliers) mm.point_ids[pairs[i].first] = pairs[i].second;
     PoseOnlyResult pr = optimise(T_c_w.inverse(), f, &mm);
     if (!pr.converged) continue;
+    if (all) reference_kf_ = kf;  // the local map around this keyframe, not around a stale reference
     searchLocalMap(pr.T_w_c, f, options_.narrow_radius_px, &mm, true);
     pr = optimise(pr.T_w_c, f, &mm);
     if (!pr.converged || pr.inliers < options_.min_inliers * 2) continue;

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -54,6 +55,9 @@ struct TrackerOptions {
   double keyframe_max_translation_m = 0.15;  ///< or when the camera moved this far from the reference keyframe
   double keyframe_max_rotation_deg = 12.0;   ///< or turned this much
   bool use_lines = true;             ///< use line features
+  /// Track against the map without changing it (a loaded map): no keyframes, no landmark
+  /// visible/found counts; relocalisation searches every keyframe.
+  bool localization_only = false;
   PoseOptimizerOptions optimizer = trackingPoseOptions();  ///< pose-only optimisation
 
   /// Depth trusted like ORB-SLAM's virtual stereo pixel (sigma_z ~ z^2 / 40): a tighter
@@ -80,6 +84,8 @@ struct TrackingResult {
 
 class Tracker {
  public:
+  /// When `map` already has keyframes (a loaded map), the first frame is relocalised in it,
+  /// searching all its keyframes; otherwise the first usable frame initialises the map.
   Tracker(Map* map, PinholeCamera camera, TrackerOptions options);
 
   /// Tracks one frame. `features` are in the frame's ideal pixels with depth filled in.
@@ -95,6 +101,12 @@ class Tracker {
   }
   int lostEvents() const { return lost_events_; }
   int relocalisations() const { return relocalisations_; }
+  /// After a loop correction moved the keyframes (T_new_old per keyframe id): the last pose
+  /// follows its reference keyframe; the motion model (a relative motion) is kept.
+  void applyMapCorrection(const std::map<Id, SE3>& T_new_old) {
+    const auto it = T_new_old.find(reference_kf_);
+    if (it != T_new_old.end()) T_w_last_ = it->second * T_w_last_;
+  }
   const TrackerOptions& options() const { return options_; }
 
  private:
@@ -107,6 +119,8 @@ class Tracker {
   void searchLocalMap(const SE3& T_w_c, const FrameFeatures& f, double radius, Matches* m, bool count_visible);
   PoseOnlyResult optimise(const SE3& T_w_c, const FrameFeatures& f, Matches* m) const;
   bool relocalise(const FrameFeatures& f, SE3* T_w_c, Matches* m);
+  /// Localisation only: the keyframe sharing the most landmarks with the tracked frame.
+  void updateReferenceKeyframe(const Matches& m);
   bool needKeyframe(const SE3& T_w_c, int inliers) const;
   Id makeKeyframe(TimeNs t_ns, const SE3& T_w_c, const FrameFeatures& f, const Matches& m);
 
@@ -121,6 +135,7 @@ class Tracker {
   int frames_since_kf_ = 0;
   int reference_kf_landmarks_ = 0;
   int lost_events_ = 0, relocalisations_ = 0;
+  bool search_all_keyframes_ = false;  // relocalise against every keyframe (loaded map, not tracked yet)
 };
 
 }  // namespace plslam

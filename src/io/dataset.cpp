@@ -39,7 +39,7 @@ std::vector<ListItem> readList(const std::string& path, size_t min_fields, const
   if (!in) throw IoError(path + ": cannot open list file");
   std::map<TimeNs, ListItem> items;
   std::string line;
-  int lineno = 0, skipped = 0;
+  int lineno = 0, skipped = 0, duplicates = 0;
   while (std::getline(in, line)) {
     ++lineno;
     std::vector<std::string> f;
@@ -56,10 +56,15 @@ std::vector<ListItem> readList(const std::string& path, size_t min_fields, const
       kLog.debug(str(path, ":", lineno, ": not a 'stamp path' line, skipped"));
       continue;
     }
-    if (items.count(item.t_ns)) ++report->duplicate_stamps;
+    if (items.count(item.t_ns)) {
+      ++report->duplicate_stamps;
+      ++duplicates;
+    }
     items[item.t_ns] = std::move(item);
   }
   if (skipped > 0) kLog.warn(str(path, ": skipped ", skipped, " unparsable line(s)"));
+  if (duplicates > 0)
+    kLog.warn(str(path, ": ", duplicates, " duplicated timestamp(s); the last line of each is kept"));
   report->lines_skipped += skipped;
   if (items.empty()) throw IoError(path + ": no usable 'timestamp filename' line");
   std::vector<ListItem> out;
@@ -132,6 +137,7 @@ const char* toString(FrameStatus status) {
     case FrameStatus::kBadDepthType: return "depth not 16-bit single channel";
     case FrameStatus::kBadColourType: return "colour not 8-bit 3-channel";
     case FrameStatus::kBadMaskType: return "mask not 16-bit single channel";
+    case FrameStatus::kNoDepth: return "depth image without any valid pixel";
   }
   return "?";
 }
@@ -227,6 +233,10 @@ TumDataset TumDataset::open(const std::string& dir, const PinholeCamera& camera,
   if (!gt.empty()) ds.groundtruth_ = readTumTrajectory(gt);
 
   ds.status_.assign(ds.entries_.size(), -1);
+  // Colour frames without depth are frames the run will not see: the user should hear of it.
+  if (rep.rgb_unpaired > 0)
+    kLog.warn(str(rgb_list, ": ", rep.rgb_unpaired, " colour frame(s) have no depth stamp within ", options.max_difference_s,
+                  " s in ", depth_list, " and are left out"));
   if (rep.rgb_unpaired > 0 || rep.depth_unpaired > 0 || rep.lines_skipped > 0)
     kLog.info(str(dir, ": ", ds.entries_.size(), " frames (", rep.rgb_unpaired, " colour and ", rep.depth_unpaired,
                   " depth stamps unpaired, ", rep.lines_skipped, " list lines skipped)"));
@@ -313,6 +323,10 @@ FrameStatus TumDataset::loadImpl(size_t i, RgbdFrame* frame, std::string* why) c
   }
   if (!sizeOk(e.rgb_path, colour) || !sizeOk(e.depth_path, depth) || (!mask.empty() && !sizeOk(e.mask_path, mask)))
     return FrameStatus::kSizeMismatch;
+  if (cv::countNonZero(depth) == 0) {
+    *why = e.depth_path + ": depth image has no valid pixel (all zero)";
+    return FrameStatus::kNoDepth;
+  }
 
   frame->t_ns = e.t_rgb_ns;
   frame->index = static_cast<int>(i);

@@ -48,8 +48,9 @@ enum class FrameStatus {
   kBadDepthType,    ///< depth is not 16-bit single channel
   kBadColourType,   ///< colour is not 8-bit 3-channel (nor grey when convert_grey)
   kBadMaskType,     ///< instance mask is not 16-bit single channel
+  kNoDepth,         ///< the depth image has no valid pixel (all zero)
 };
-constexpr int kFrameStatusCount = 7;
+constexpr int kFrameStatusCount = 8;
 const char* toString(FrameStatus status);
 
 /// One associated frame of the folder.

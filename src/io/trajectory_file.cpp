@@ -26,8 +26,16 @@ bool toDouble(const std::string& s, double* v) {
 }  // namespace
 
 Trajectory readTumTrajectory(const std::string& path, TrajectoryReadReport* report) {
-  std::ifstream in(path);
-  if (!in) throw IoError(path + ": cannot open trajectory file");
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw IoError(path + ": cannot open trajectory file");
+  std::ostringstream content;
+  content << file.rdbuf();
+  if (file.bad()) throw IoError(path + ": read error");
+  return parseTumTrajectory(content.str(), path, report);
+}
+
+Trajectory parseTumTrajectory(const std::string& content, const std::string& path, TrajectoryReadReport* report) {
+  std::istringstream in(content);
   TrajectoryReadReport r;
   std::map<TimeNs, SE3> poses;
   std::string line;
@@ -57,7 +65,15 @@ Trajectory readTumTrajectory(const std::string& path, TrajectoryReadReport* repo
       continue;
     }
     TimeNs t = 0;
-    if (!parseSecondsStamp(f[0], &t)) t = secondsToNs(v[0]);  // exponents etc.
+    if (!parseSecondsStamp(f[0], &t)) {
+      // Exponents etc.; a stamp beyond int64 nanoseconds (~292 years) is not a stamp.
+      if (std::abs(v[0]) > 9.0e9) {
+        ++r.skipped_malformed;
+        kLog.debug(str(path, ":", lineno, ": stamp out of range, skipped"));
+        continue;
+      }
+      t = secondsToNs(v[0]);
+    }
     if (!first && t <= last) r.was_unsorted |= t < last;
     first = false;
     last = t;

@@ -22,6 +22,9 @@ struct TrajectoryReadReport {
 /// Lines that cannot be a pose are skipped and counted in `report` (and logged); an
 /// unreadable file, or one with no valid pose, throws IoError naming the file.
 Trajectory readTumTrajectory(const std::string& path, TrajectoryReadReport* report = nullptr);
+/// The same on file content in memory; `source` names it in messages.
+Trajectory parseTumTrajectory(const std::string& content, const std::string& source,
+                              TrajectoryReadReport* report = nullptr);
 
 /// Writes a TUM trajectory (6 decimals for stamps, 9 significant digits for values),
 /// atomically: a temporary file is renamed over `path`, so a crash never leaves half a file.

@@ -8,6 +8,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "io/trajectory_file.h"
+#include "mapfile/map_file.h"
 
 namespace plslam {
 
@@ -49,7 +50,15 @@ std::string statsToJson(const RunStats& s, const std::string& extra) {
      << ", \"mask_age_frames\": " << summaryJson(s.mask_age_frames) << "}"
      << ",\n  \"modules\": {\"lines\": " << (s.use_lines ? "true" : "false")
      << ", \"dynamic\": " << (s.use_dynamic ? "true" : "false")
-     << ", \"loop_closure\": false, \"sequential\": " << (s.sequential ? "true" : "false") << "}";
+     << ", \"loop_closure\": " << (s.use_loop ? "true" : "false")
+     << ", \"sequential\": " << (s.sequential ? "true" : "false") << "}";
+  if (s.use_loop) {
+    os << ",\n  \"loop\": {\"keyframes\": " << s.loop.queries << ", \"candidates\": " << s.loop.candidates
+       << ", \"accepted\": " << s.loop.accepted << ", \"refused\": {";
+    for (int i = 1; i < kLoopStatusCount; ++i)
+      os << (i > 1 ? ", " : "") << "\"" << toString(static_cast<LoopStatus>(i)) << "\": " << s.loop.refused[i];
+    os << "}, \"correction_ms\": " << summaryJson(s.loop.correction_ms) << "}";
+  }
   if (!extra.empty()) os << ",\n  " << extra;
   os << "\n}\n";
   return os.str();
@@ -79,7 +88,7 @@ std::string sparseMapToPly(const Map& map) {
 }
 
 void writeRunOutputs(const std::string& dir, const System& system, const std::string& config_yaml,
-                     const std::string& stats_extra) {
+                     const std::string& stats_extra, const std::string& map_path) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (!std::filesystem::is_directory(dir)) throw IoError(dir + ": cannot create the output folder");
@@ -88,6 +97,7 @@ void writeRunOutputs(const std::string& dir, const System& system, const std::st
   writeFileAtomically(dir + "/sparse_map.ply", sparseMapToPly(system.map()));
   writeFileAtomically(dir + "/stats.json", statsToJson(system.stats(), stats_extra));
   if (!config_yaml.empty()) writeFileAtomically(dir + "/config.yaml", config_yaml);
+  saveMap(map_path.empty() ? dir + "/" + kDefaultMapFileName : map_path, system.map(), system.camera(), config_yaml);
 }
 
 }  // namespace plslam

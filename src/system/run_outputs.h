@@ -6,6 +6,8 @@
 //                    MeshLab and Open3D read the vertices; CloudCompare/MeshLab draw the edges)
 //   stats.json       run figures (see RunStats)
 //   config.yaml      the effective configuration
+//   map.plmap        the map (keyframes, landmarks, camera, configuration) for
+//                    `plslam run --map map.plmap [--localize]` (mapfile/map_file.h)
 #pragma once
 
 #include <string>
@@ -20,9 +22,10 @@ std::string statsToJson(const RunStats& stats, const std::string& extra = "");
 /// The sparse map as ASCII PLY (points and lines, see above).
 std::string sparseMapToPly(const Map& map);
 /// Writes trajectory.txt, keyframes.txt, sparse_map.ply, stats.json (and config.yaml when
-/// `config_yaml` is not empty) into `dir` (created if needed).
+/// `config_yaml` is not empty) into `dir` (created if needed), and the map to `map_path`
+/// (empty: dir/map.plmap).
 void writeRunOutputs(const std::string& dir, const System& system, const std::string& config_yaml,
-                     const std::string& stats_extra = "");
+                     const std::string& stats_extra = "", const std::string& map_path = "");
 
 /// Median / mean / 95th percentile of `v` (0 when empty).
 struct Summary {

@@ -6,6 +6,7 @@
 #include "core/bounded_queue.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "dense/keyframe_cloud.h"
 #include "dynamic/semantic_labels.h"
 
 namespace plslam {
@@ -31,22 +32,48 @@ struct System::Pipeline {
       : tracker(map, camera, o.tracker),
         mapper(map, camera, o.mapper),
         dynamic(camera, o.dynamic, o.dynamic.enabled ? makeSegmenter(o.segmenter) : nullptr, !o.sequential),
-        queue(o.mapping_queue, QueuePolicy::kBlock) {}
+        queue(o.mapping_queue, QueuePolicy::kBlock),
+        map(map),
+        camera(camera),
+        dense(o.dense) {}
   /// The mapping thread's work on one keyframe (on the caller's thread when sequential).
-  void processKeyframe(const KeyframeJob& job) { mapper.processKeyframe(job.keyframe, job.depth_m); }
+  void processKeyframe(const KeyframeJob& job) {
+    if (dense.enabled) {
+      // The cloud is made outside the lock (a few ms) and stored under it.
+      std::vector<DensePoint> cloud =
+          makeKeyframeCloud(camera, job.bgr, job.depth_m, job.dynamic_mask, classImage(job.segmentation), dense);
+      std::lock_guard<std::mutex> lock(map->mutex());
+      if (KeyFrame* kf = map->keyframe(job.keyframe)) kf->dense = std::move(cloud);
+    }
+    mapper.processKeyframe(job.keyframe, job.depth_m);
+    if (loop) loop->processKeyframe(job.keyframe);
+  }
   Tracker tracker;
   LocalMapper mapper;
   DynamicFilter dynamic;
   BoundedQueue<KeyframeJob> queue;
+  Map* map;                      ///< for storing the dense clouds
+  PinholeCamera camera;
+  DenseOptions dense;            ///< per-keyframe dense clouds
   std::thread mapping_thread;
   bool started = false, finished = false;
+  std::unique_ptr<LoopCloser> loop;  ///< null without loop closure
+  std::mutex tracking_mutex;         ///< held while a frame is tracked; loop corrections wait for it
 };
 
-System::System(PinholeCamera camera, SystemOptions options) : camera_(std::move(camera)), options_(std::move(options)) {
+System::System(PinholeCamera camera, SystemOptions options) : System(std::move(camera), std::move(options), Map()) {}
+
+System::System(PinholeCamera camera, SystemOptions options, Map map)
+    : camera_(std::move(camera)), options_(std::move(options)), map_(std::move(map)) {
   options_.tracker.use_lines = options_.use_lines;
   options_.mapper.use_lines = options_.use_lines;
   options_.features.use_lines = options_.use_lines;
   pipeline_ = std::make_unique<Pipeline>(&map_, camera_, options_);
+  if (options_.use_loop && !options_.tracker.localization_only) {
+    Pipeline* p = pipeline_.get();
+    p->loop = std::make_unique<LoopCloser>(&map_, camera_, options_.loop);
+    p->loop->setCorrectionHook(&p->tracking_mutex, [p](const LoopCorrection& c) { p->tracker.applyMapCorrection(c.T_new_old); });
+  }
 }
 
 System::~System() {
@@ -76,6 +103,7 @@ TrackingResult System::feed(const RgbdFrame& frame, const cv::Mat& mask) {
   rec.segmentation_ms = dyn.segmentation_ms;
   rec.fresh_segmentation = dyn.fresh_segmentation;
   rec.mask_age_frames = dyn.mask_age_frames;
+  std::unique_lock<std::mutex> tracking(pipeline_->tracking_mutex);  // no loop correction from here to the record
   const TrackingResult r = pipeline_->tracker.track(frame.t_ns, f);
   rec.tracking_ms = msSince(t0);
   rec.status = r.status;
@@ -94,6 +122,7 @@ TrackingResult System::feed(const RgbdFrame& frame, const cv::Mat& mask) {
     rec.T_ref_c = map_.keyframe(r.reference_keyframe)->T_w_c.inverse() * r.T_w_c;
   }
   records_.push_back(rec);
+  tracking.unlock();
   if (r.new_keyframe) {
     Pipeline::KeyframeJob job{r.keyframe_id, frame.depth_m, frame.bgr, dyn.mask, dyn.segmentation};
     if (options_.sequential) pipeline_->processKeyframe(job);
@@ -108,6 +137,8 @@ void System::finish() {
   pipeline_->queue.close();
   if (pipeline_->mapping_thread.joinable()) pipeline_->mapping_thread.join();
 }
+
+const LoopCloser* System::loopCloser() const { return pipeline_->loop.get(); }
 
 Trajectory System::trajectory() const {
   std::lock_guard<std::mutex> lock(map_.mutex());
@@ -156,6 +187,8 @@ RunStats System::stats() const {
   s.sequential = options_.sequential;
   s.use_dynamic = options_.dynamic.enabled;
   s.segmenter = options_.dynamic.enabled ? segmenterKindName(options_.segmenter.kind) : "off";
+  s.use_loop = pipeline_->loop != nullptr;
+  if (pipeline_->loop) s.loop = pipeline_->loop->stats();
   return s;
 }
 

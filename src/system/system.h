@@ -23,10 +23,12 @@
 #include "core/map.h"
 #include "core/option_table.h"
 #include "core/trajectory.h"
+#include "dense/dense_options.h"
 #include "dynamic/segmenter.h"
 #include "frontend/dynamic_filter.h"
 #include "frontend/feature_extraction.h"
 #include "frontend/tracker.h"
+#include "loop/loop_closer.h"
 #include "mapping/local_mapper.h"
 
 namespace plslam {
@@ -40,6 +42,9 @@ struct SystemOptions {
   LocalMapperOptions mapper;    ///< local mapping
   DynamicFilterOptions dynamic; ///< rejection of moving objects (dynamic.enabled = false: none)
   SegmenterOptions segmenter;   ///< instance segmentation backend (kind none: geometry only)
+  DenseOptions dense;           ///< dense clouds per keyframe and the dense products (dense/)
+  bool use_loop = true;         ///< loop closure (place recognition + pose graph) on the mapping thread
+  LoopOptions loop;             ///< loop closure
 };
 
 /// Binds every field of `options` that a configuration file may set.
@@ -70,11 +75,17 @@ struct RunStats {
   int fresh_segmentations = 0;
   bool use_lines = true, sequential = false, use_dynamic = false;
   std::string segmenter = "none";
+  bool use_loop = false;
+  LoopStats loop;  ///< loop closure: candidates, accepted, refused per LoopStatus, correction times
 };
 
 class System {
  public:
   System(PinholeCamera camera, SystemOptions options);
+  /// Starts from a loaded map (mapfile/map_file.h): the first frame is relocalised in it.
+  /// With options.tracker.localization_only the map is never changed (no keyframes, no
+  /// mapping), and the trajectory is in the map's world frame.
+  System(PinholeCamera camera, SystemOptions options, Map map);
   ~System();
   System(const System&) = delete;
   System& operator=(const System&) = delete;
@@ -92,6 +103,8 @@ class System {
   Trajectory keyframeTrajectory() const;
   RunStats stats() const;
   const Map& map() const { return map_; }
+  /// The loop closer (its candidate log), null with use_loop off.
+  const LoopCloser* loopCloser() const;
   const std::vector<FrameRecord>& records() const { return records_; }
   const PinholeCamera& camera() const { return camera_; }
   const SystemOptions& options() const { return options_; }

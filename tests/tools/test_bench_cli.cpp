@@ -94,7 +94,7 @@ TEST(BenchCli, SyntheticSceneGivesATableRowAndJsonAndAnnouncesTheTumSkip) {
   EXPECT_TRUE(std::isfinite(ate) && ate >= 0) << "ATE cell: " << row[2];
   EXPECT_EQ(row[8], "yes") << "lines column";
   EXPECT_EQ(row[9], "geometry") << "dynamic column";
-  EXPECT_EQ(row[10], "no") << "loop column";
+  EXPECT_EQ(row[10], "yes") << "loop column (on by default)";
   // The same table went to stdout.
   EXPECT_NE(r.out.find("| synthetic_static | 40 |"), std::string::npos);
 

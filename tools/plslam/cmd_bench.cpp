@@ -281,7 +281,8 @@ void runSequence(const BenchSettings& settings, SequenceResult* result, bool* in
   }
 }
 
-std::string markdownTable(const std::vector<SequenceResult>& results, int runs, bool lines, const std::string& dynamic) {
+std::string markdownTable(const std::vector<SequenceResult>& results, int runs, bool lines, const std::string& dynamic,
+                          bool loop) {
   std::ostringstream os;
   os << "| sequence | frames | ATE RMSE m median (min-max) | RPE trans m/s | RPE rot deg/s | tracked | keyframes "
         "| tracking ms median / p95 | lines | dynamic | loop |\n"
@@ -290,7 +291,7 @@ std::string markdownTable(const std::vector<SequenceResult>& results, int runs, 
     const auto& r = s.runs;
     os << "| " << s.spec.name << " | " << s.frames << " | ";
     if (r.empty()) {
-      os << "failed: " << s.error << " | | | | | | " << (lines ? "yes" : "no") << " | " << dynamic << " | no |\n";
+      os << "failed: " << s.error << " | | | | | | " << (lines ? "yes" : "no") << " | " << dynamic << " | " << (loop ? "yes" : "no") << " |\n";
       continue;
     }
     os << cell(spread(collect(r, [](const RunFigures& x) { return x.ate; })), "%.4f", runs) << " | "
@@ -300,7 +301,7 @@ std::string markdownTable(const std::vector<SequenceResult>& results, int runs, 
        << " | " << cell(spread(collect(r, [](const RunFigures& x) { return double(x.keyframes); })), "%.0f", runs)
        << " | " << format("%.1f", spread(collect(r, [](const RunFigures& x) { return x.tracking_median; })).median)
        << " / " << format("%.1f", spread(collect(r, [](const RunFigures& x) { return x.tracking_p95; })).median)
-       << " | " << (lines ? "yes" : "no") << " | " << dynamic << " | no |\n";
+       << " | " << (lines ? "yes" : "no") << " | " << dynamic << " | " << (loop ? "yes" : "no") << " |\n";
   }
   return os.str();
 }
@@ -313,7 +314,7 @@ std::string resultsJson(const std::vector<SequenceResult>& results, const std::v
      << ",\n  \"mode\": " << jsonQuote(settings.options.sequential ? "sequential" : "threaded")
      << ",\n  \"runs_per_sequence\": " << settings.runs << ",\n  \"shared_dir\": " << jsonQuote(shared)
      << ",\n  \"modules\": {\"lines\": " << (settings.options.use_lines ? "true" : "false")
-     << ", \"dynamic\": " << (settings.options.dynamic.enabled ? "true" : "false") << ", \"loop_closure\": false}"
+     << ", \"dynamic\": " << (settings.options.dynamic.enabled ? "true" : "false") << ", \"loop_closure\": " << (settings.options.use_loop ? "true" : "false") << "}"
      << ",\n  \"peak_rss_mb\": " << jsonNumber(peak_mb) << ",\n  \"wall_s\": " << jsonNumber(wall_s)
      << ",\n  \"interrupted\": " << (interrupted ? "true" : "false") << ",\n  \"notes\": [";
   for (size_t i = 0; i < notes.size(); ++i) os << (i ? ", " : "") << jsonQuote(notes[i]);
@@ -380,6 +381,7 @@ int runBench(int argc, char** argv) {
       .option("config", "YAML run options (as plslam run --config)")
       .flag("no-lines", "points only: no line features")
       .flag("no-dynamic", "no rejection of moving objects (default: geometric checks, no segmenter)")
+      .flag("no-loop", "no loop closure")
       .flag("sequential", "deterministic single-thread order instead of the threaded mode")
       .option("log-level", "debug, info, warn, error or off", "warn")
       .epilog(
@@ -400,6 +402,7 @@ int runBench(int argc, char** argv) {
   settings.options.sequential = args.has("sequential");
   if (args.has("no-lines")) settings.options.use_lines = false;
   if (args.has("no-dynamic")) settings.options.dynamic.enabled = false;
+  if (args.has("no-loop")) settings.options.use_loop = false;
   settings.config_yaml = table.toYaml("plslam bench: effective configuration");
 
   std::vector<synth::SceneKind> scenes;
@@ -504,7 +507,8 @@ int runBench(int argc, char** argv) {
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - bench_t0).count();
   const double peak_mb = peakRssMb();
   const std::string table_md = markdownTable(results, settings.runs, settings.options.use_lines,
-                                               settings.options.dynamic.enabled ? "geometry" : "no");
+                                               settings.options.dynamic.enabled ? "geometry" : "no",
+                                               settings.options.use_loop);
   std::ostringstream under;
   under << "\n" << (settings.options.sequential ? "Sequential" : "Threaded") << " mode, " << settings.runs
         << (settings.runs == 1 ? " run" : " runs") << " per sequence: median (min-max) over the runs; RPE over 1 s "

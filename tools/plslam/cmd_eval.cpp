@@ -13,6 +13,7 @@ namespace plslam::cli {
 namespace {
 
 int runEval(int argc, char** argv) {
+  if (argc > 0 && std::string(argv[0]) == "loops") return runEvalLoops(argc - 1, argv + 1);
   Args args("eval", "Absolute trajectory error (ATE) and relative pose error (RPE) of an estimate against ground truth.");
   args.option("gt", "ground-truth trajectory, TUM format", "", true)
       .option("est", "estimated trajectory, TUM format", "", true)
@@ -52,6 +53,8 @@ int runEval(int argc, char** argv) {
 
 }  // namespace
 
-Command makeEvalCommand() { return {"eval", "ATE/RPE of a trajectory against ground truth (TUM format)", runEval}; }
+Command makeEvalCommand() {
+  return {"eval", "ATE/RPE of a trajectory against ground truth (TUM format); eval loops: loop detection P-R", runEval};
+}
 
 }  // namespace plslam::cli

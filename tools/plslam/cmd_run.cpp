@@ -2,14 +2,18 @@
 // keyframes, sparse map, statistics and effective configuration.
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "camera/camera_file.h"
 #include "commands.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "dense_cli.h"
 #include "io/dataset.h"
+#include "mapfile/map_file.h"
 #include "run_session.h"
 #include "system/run_outputs.h"
 #include "system/system.h"
@@ -21,7 +25,7 @@ namespace {
 int runRun(int argc, char** argv) {
   Args args("run", "Point-line RGB-D SLAM over a recorded folder (TUM RGB-D layout, ICL-NUIM, or plslam synth).");
   args.option("dataset", "folder with rgb.txt and depth.txt (or associations.txt)", "", true)
-      .option("calib", "camera file (ViSP XML, see calib/)", "", true)
+      .option("calib", "camera file (ViSP XML, see calib/); with --map, default: the map's camera")
       .option("out", "output folder (created if needed)", "", true)
       .option("config", "YAML run options (plslam run --print-config shows every key)")
       .option("max-frames", "process only the first N frames (0 = all)", "0")
@@ -33,11 +37,19 @@ int runRun(int argc, char** argv) {
       .option("dynamic-classes", "comma-separated class names that may move (default: person, animals, vehicles)")
       .flag("allow-missing-model", "if the model cannot be used, warn and go on with the geometric checks only")
       .flag("no-dynamic", "no rejection of moving objects at all")
+      .flag("no-loop", "no loop closure")
+      .flag("no-dense", "do not write the dense products (cloud, OctoMaps, 2D grid) at the end")
       .flag("print-config", "print the effective configuration and exit")
       .option("log-level", "debug, info, warn, error or off", "warn")
       .flag("quiet", "no progress line")
+      .option("map", "start from a saved map (a run's map.plmap); its configuration is the base of this run's")
+      .flag("localize", "with --map: track in the map without changing it (no keyframes, no mapping); poses in its world frame")
+      .option("save-map", "where to write the map at the end (default: <out>/map.plmap)")
       .epilog(
-          "outputs: trajectory.txt (TUM, every tracked frame), keyframes.txt, sparse_map.ply, stats.json, config.yaml\n"
+          "outputs: trajectory.txt (TUM, every tracked frame), keyframes.txt, sparse_map.ply, stats.json, config.yaml,\n"
+          "map.plmap (the map, for --map; written atomically, also after Ctrl-C)\n"
+          "and the dense products (unless --no-dense; see plslam export): dense_cloud.pcd, dense_cloud_semantic.ply,\n"
+          "octomap.bt, octomap_semantic.ot, grid.pgm + grid.yaml, dense_products.json\n"
           "When the folder has groundtruth.txt, the ATE is printed and added to stats.json.\n"
           "Ctrl-C stops the run and still writes what it has.\n\n"
           "example: plslam run --dataset rgbd_dataset_freiburg1_xyz --calib calib/tum_freiburg1.xml --out maps/fr1_xyz");
@@ -46,10 +58,24 @@ int runRun(int argc, char** argv) {
 
   SystemOptions options;
   OptionTable table;
-  loadRunConfig(args.has("config") ? args.str("config") : std::string(), &options, &table);
+  std::optional<LoadedMap> loaded;
+  if (args.has("localize") && !args.has("map")) throw ConfigError("plslam run: --localize needs --map FILE");
+  if (!args.has("calib") && !args.has("map")) throw ConfigError("plslam run: --calib is required (or --map)");
+  if (args.has("map")) {
+    // The map's own configuration first (same features and tracking), then --config over it.
+    loaded = loadMap(args.str("map"));
+    bindOptions(&table, &options);
+    if (!loaded->config_yaml.empty())
+      table.apply(parseYamlSubset(loaded->config_yaml, args.str("map")), args.str("map") + " (saved configuration)");
+    if (args.has("config")) table.apply(parseYamlSubset(readTextFile(args.str("config")), args.str("config")), args.str("config"));
+    options.tracker.localization_only = args.has("localize");
+  } else {
+    loadRunConfig(args.has("config") ? args.str("config") : std::string(), &options, &table);
+  }
   if (args.has("sequential")) options.sequential = true;
   if (args.has("no-lines")) options.use_lines = false;
   if (args.has("no-dynamic")) options.dynamic.enabled = false;
+  if (args.has("no-loop")) options.use_loop = false;
   const std::string segmenter = args.str("segmenter");
   if (segmenter == "none" || segmenter == "replay") {
     options.segmenter.kind = parseSegmenterKind(segmenter);
@@ -71,7 +97,10 @@ int runRun(int argc, char** argv) {
     return 0;
   }
 
-  const PinholeCamera camera = loadCameraFile(args.str("calib"));
+  const PinholeCamera camera = args.has("calib") ? loadCameraFile(args.str("calib")) : loaded->camera;
+  if (loaded && (camera.width != loaded->camera.width || camera.height != loaded->camera.height ||
+                 camera.fx != loaded->camera.fx || camera.fy != loaded->camera.fy))
+    std::fprintf(stderr, "[run] warning: --calib differs from the camera the map was built with\n");
   DatasetOptions dopt;
   dopt.max_frames = args.integer("max-frames", 0, 100000000);
   TumDataset dataset = TumDataset::open(args.str("dataset"), camera, dopt);
@@ -83,8 +112,15 @@ int runRun(int argc, char** argv) {
       options.segmenter.replay_labels.push_back({l.instance_id, l.class_id, l.class_name});
   }
   const std::string out = args.str("out");
+  // Refuse an unusable output folder before the run, not after it.
+  {
+    std::error_code ec;
+    std::filesystem::create_directories(out, ec);
+    if (!std::filesystem::is_directory(out))
+      throw IoError(out + ": cannot create the output folder" + (ec ? " (" + ec.message() + ")" : std::string()));
+  }
 
-  System slam(camera, options);
+  System slam(camera, options, loaded ? std::move(loaded->map) : Map());
   slam.start();
   const bool progress = !args.has("quiet");
   FeedResult fed;
@@ -100,10 +136,24 @@ int runRun(int argc, char** argv) {
   }
   if (fed.interrupted) std::fprintf(stderr, "[run] interrupted: finishing and writing what there is\n");
   slam.finish();
+  const std::string skipped = skippedFramesText(dataset);
+  // A run that tracked nothing has no result: say why and leave the output folder as it was.
+  if (fed.tracked == 0) {
+    if (fed.interrupted) {
+      std::fprintf(stderr, "[run] interrupted before any frame was tracked: no outputs written to %s\n", out.c_str());
+      return 130;
+    }
+    if (fed.fed == 0)
+      throw DataError(str(dataset.dir(), ": none of the ", dataset.size(), " frames could be loaded (", skipped,
+                          "); see the messages above for each file"));
+    throw DataError(str(dataset.dir(), ": none of the ", fed.fed, " frames loaded could be tracked (last reason: ",
+                        fed.last_failure, ")", skipped.empty() ? "" : "; skipped: " + skipped));
+  }
 
   const RunEvaluation evaluation = evaluateRun(dataset, slam.trajectory());
   const std::string ate_line = evaluation.text();
-  writeRunOutputs(out, slam, table.toYaml("plslam run: effective configuration"), runStatsExtra(dataset, evaluation));
+  writeRunOutputs(out, slam, table.toYaml("plslam run: effective configuration"), runStatsExtra(dataset, evaluation),
+                  args.has("save-map") ? args.str("save-map") : std::string());
 
   const RunStats st = slam.stats();
   const Summary tms = summarize(st.tracking_ms);
@@ -111,8 +161,11 @@ int runRun(int argc, char** argv) {
               st.frames ? 100.0 * st.tracked / st.frames : 0.0, st.keyframes, st.lost_events, st.map_points, st.map_lines);
   std::printf("tracking %.1f ms/frame median, %.1f p95; line reconstruction rate: fitting %.3f, endpoints %.3f\n",
               tms.median, tms.p95, st.line_rate_fitting, st.line_rate_endpoints);
+  if (!skipped.empty()) std::printf("skipped %d of %zu frames: %s\n", dataset.skippedTotal(), dataset.size(), skipped.c_str());
   if (!ate_line.empty()) std::printf("%s\n", ate_line.c_str());
   std::printf("outputs: %s\n", out.c_str());
+  if (!args.has("no-dense") && options.dense.enabled && !writeDenseMaps(slam.map(), options.dense, {}, out, progress))
+    return 130;
   return fed.interrupted ? 130 : 0;
 }
 

@@ -8,6 +8,12 @@ std::vector<Command> allCommands() {
       makeEvalCommand(),
       makeSynthCommand(),
       makeBenchCommand(),
+      makeLiveCommand(),
+      makeRecordCommand(),
+      makeServoCommand(),
+      makeVocabCommand(),
+      makeCalibCommand(),
+      makeExportCommand(),
   };
 }
 

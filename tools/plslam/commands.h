@@ -13,5 +13,13 @@ Command makeEvalCommand();
 Command makeSynthCommand();
 Command makeRunCommand();
 Command makeBenchCommand();
+Command makeLiveCommand();
+Command makeRecordCommand();
+Command makeServoCommand();
+Command makeVocabCommand();
+Command makeCalibCommand();
+Command makeExportCommand();
+/// plslam eval loops (cmd_eval_loops.cpp): argv after "loops".
+int runEvalLoops(int argc, char** argv);
 
 }  // namespace plslam::cli

@@ -63,6 +63,7 @@ FeedResult feedFrames(System* slam, TumDataset* dataset, const std::function<voi
     const TrackingResult r = slam->feed(frame);
     ++result.fed;
     result.tracked += isTracked(r.status);
+    if (!isTracked(r.status) && !r.reason.empty()) result.last_failure = r.reason;
     const auto now = std::chrono::steady_clock::now();
     if (now - last_report > std::chrono::milliseconds(period_ms)) report(now);
   }
@@ -102,6 +103,15 @@ RunEvaluation evaluateRun(const TumDataset& dataset, const Trajectory& estimate)
     ev.error = e.what();
   }
   return ev;
+}
+
+std::string skippedFramesText(const TumDataset& dataset) {
+  std::string text;
+  for (int s = 1; s < kFrameStatusCount; ++s) {
+    const int n = dataset.count(static_cast<FrameStatus>(s));
+    if (n > 0) text += (text.empty() ? "" : ", ") + std::to_string(n) + " " + toString(static_cast<FrameStatus>(s));
+  }
+  return text;
 }
 
 std::string runStatsExtra(const TumDataset& dataset, const RunEvaluation& evaluation) {

@@ -51,6 +51,7 @@ struct FeedResult {
   int tracked = 0;
   double seconds = 0;        ///< wall time of the feeding loop
   bool interrupted = false;  ///< stopped by Ctrl-C (SigintGuard)
+  std::string last_failure;  ///< the tracker's reason for the last frame it could not track (empty: none)
 };
 
 /// Feeds every loadable frame of `dataset` (from its current position) to the started
@@ -74,6 +75,9 @@ struct RunEvaluation {
 };
 /// Evaluates `estimate` against dataset.groundtruth() (TUM benchmark definitions).
 RunEvaluation evaluateRun(const TumDataset& dataset, const Trajectory& estimate);
+
+/// The frames skipped so far by reason, e.g. "2 unreadable image, 1 missing file" (empty: none).
+std::string skippedFramesText(const TumDataset& dataset);
 
 /// The extra stats.json members of a run: dataset folder, skipped frames, evaluation.
 std::string runStatsExtra(const TumDataset& dataset, const RunEvaluation& evaluation);
