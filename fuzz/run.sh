@@ -8,6 +8,9 @@
 # leaves build-fuzz/fuzz-work/<target>/crash-* and makes the script fail; copy the input
 # into fuzz/corpus/<target>/ with the fix, so tests/reliability replays it from then on.
 #   PLSLAM_FUZZ_BUILD   build folder (default: build-fuzz)
+#   PLSLAM_FUZZ_RUNS    when set: that many inputs per target from a fixed random seed, in a
+#                       fresh work folder, instead of SECONDS: the same inputs every time (CI,
+#                       so that a red run points at a change, not at luck)
 set -uo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${PLSLAM_FUZZ_BUILD:-$root/build-fuzz}"
@@ -35,7 +38,13 @@ for t in "${targets[@]}"; do
   work="$build/fuzz-work/$t"
   mkdir -p "$work"
   log="$work/last-run.log"
-  "$exe" -max_total_time="$seconds" -print_final_stats=1 -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+  if [ -n "${PLSLAM_FUZZ_RUNS:-}" ]; then
+    rm -rf "$work" && mkdir -p "$work"
+    budget=(-runs="$PLSLAM_FUZZ_RUNS" -seed=1)
+  else
+    budget=(-max_total_time="$seconds")
+  fi
+  "$exe" "${budget[@]}" -print_final_stats=1 -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
     -artifact_prefix="$work/" "$work" "$root/fuzz/corpus/$t" >"$log" 2>&1
   rc=$?
   runs=$(grep -E "^stat::number_of_executed_units" "$log" | awk '{s+=$2} END {print s+0}')

@@ -14,7 +14,8 @@ bool splitTumLine(const std::string& line, std::vector<std::string>* fields) {
   if (b == std::string::npos || s[b] == '#') return false;
   std::istringstream is(s);
   for (std::string tok; is >> tok;) fields->push_back(tok);
-  return true;
+  // Other whitespace (\v, \f) is not caught above but leaves no field.
+  return !fields->empty();
 }
 
 }  // namespace plslam

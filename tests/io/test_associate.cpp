@@ -3,6 +3,7 @@
 #include <cstdlib>
 
 #include "io/associate.h"
+#include "io/tum_line.h"
 
 using namespace plslam;
 
@@ -64,4 +65,14 @@ TEST(Associate, FindClosestIndexFindsTheNearestElement) {
   EXPECT_EQ(findClosestIndex(s, 3.0), 2u);
   EXPECT_EQ(findClosestIndex(s, 7.0), 3u);
   EXPECT_EQ(findClosestIndex(s, 100.0), 3u);
+}
+
+// Found by fuzzing: a line of vertical tabs / form feeds passed the blank-line check but
+// produced no field, and the list reader then read past an empty vector.
+TEST(TumLine, ALineOfOtherWhitespaceIsBlank) {
+  std::vector<std::string> f{"stale"};
+  EXPECT_FALSE(splitTumLine("\v\f \v", &f));
+  EXPECT_TRUE(f.empty());
+  EXPECT_TRUE(splitTumLine("1.0\vrgb/1.png", &f));
+  EXPECT_EQ(f.size(), 2u);
 }
