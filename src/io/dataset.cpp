@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
+#include <system_error>
 #include <stdexcept>
 
 #include "core/error.h"
@@ -284,8 +285,10 @@ FrameStatus TumDataset::loadImpl(size_t i, RgbdFrame* frame, std::string* why) c
   // Reads one image; a missing or undecodable file is a skip.
   auto read = [&](const std::string& listed, cv::Mat* img) {
     const std::string path = full(listed);
-    if (!fs::is_regular_file(path)) {
-      *why = listed + ": file not found";
+    std::error_code ec;  // a name the file system refuses (too long, ...) is a missing file, not a throw
+    if (!fs::is_regular_file(path, ec)) {
+      const bool odd = ec && ec != std::errc::no_such_file_or_directory;
+      *why = listed + (odd ? ": " + ec.message() : std::string(": file not found"));
       return FrameStatus::kMissingFile;
     }
     *img = cv::imread(path, cv::IMREAD_UNCHANGED);
