@@ -5,8 +5,8 @@
 
 #include "camera/camera_file.h"
 #include "capture/frame_grabber.h"
-#include "capture/replay_grabber.h"
 #include "commands.h"
+#include "grabber_source.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "live/live_loop.h"
@@ -17,21 +17,6 @@
 namespace plslam::cli {
 
 namespace {
-
-/// The frame source of live/record: the RealSense, or a replayed folder with --fake.
-std::unique_ptr<FrameGrabber> openGrabber(const Args& args) {
-  std::unique_ptr<FrameGrabber> grabber;
-  if (args.has("fake")) {
-    ReplayOptions ropt;
-    ropt.speed = args.number("fake-speed");
-    if (ropt.speed < 0) throw ConfigError("--fake-speed must be >= 0 (0: as fast as it is read)");
-    grabber = std::make_unique<ReplayGrabber>(args.str("fake"), ropt);
-  } else {
-    grabber = makeRealSenseGrabber();  // ConfigError naming what is missing when unavailable
-  }
-  grabber->open();
-  return grabber;
-}
 
 int runLiveCommand(int argc, char** argv) {
   Args args("live", "Point-line RGB-D SLAM on the live camera (Intel RealSense D435i through ViSP).");
