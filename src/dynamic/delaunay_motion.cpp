@@ -156,13 +156,15 @@ DelaunayMotionResult analyseDelaunayMotion(const std::vector<MotionCorrespondenc
     for (int i : nodes) res.moving[i] = size_of[together.find(i)] < static_size;
   }
 
-  // 5. Regions: moving features joined by kept edges.
+  // 5. Regions: moving features joined by kept edges on one surface.
   UnionFind region(n_all);
   for (const auto& e : res.edges)
-    if (!e.broken && res.moving[e.a] && res.moving[e.b]) region.unite(e.a, e.b);
+    if (!e.broken && res.moving[e.a] && res.moving[e.b] && o.region_surface.joins(corr[e.a].p_cur.z(), corr[e.b].p_cur.z()))
+      region.unite(e.a, e.b);
   std::map<int, std::vector<int>> members_of;
   for (int i : nodes)
     if (res.moving[i]) members_of[region.find(i)].push_back(i);
+  std::map<int, size_t> index_of;  // region root -> index in res.regions
   for (auto& [root, members] : members_of) {
     if (static_cast<int>(members.size()) < o.min_region_features) continue;
     MovingRegion r;
@@ -170,7 +172,21 @@ DelaunayMotionResult analyseDelaunayMotion(const std::vector<MotionCorrespondenc
     for (int i : members) pts.emplace_back(static_cast<float>(corr[i].uv_cur.x()), static_cast<float>(corr[i].uv_cur.y()));
     cv::convexHull(pts, r.hull);
     r.features = std::move(members);
+    index_of[root] = res.regions.size();
     res.regions.push_back(std::move(r));
+  }
+  if (!index_of.empty()) {
+    std::vector<cv::Vec6f> triangles;
+    subdiv.getTriangleList(triangles);
+    for (const auto& t : triangles) {
+      const int v[3] = {lookup(t[0], t[1]), lookup(t[2], t[3]), lookup(t[4], t[5])};
+      if (v[0] < 0 || v[1] < 0 || v[2] < 0 || !res.moving[v[0]] || !res.moving[v[1]] || !res.moving[v[2]]) continue;
+      const int root = region.find(v[0]);
+      if (region.find(v[1]) != root || region.find(v[2]) != root) continue;
+      const auto it = index_of.find(root);
+      if (it == index_of.end()) continue;
+      res.regions[it->second].triangles.push_back({cv::Point2f(t[0], t[1]), cv::Point2f(t[2], t[3]), cv::Point2f(t[4], t[5])});
+    }
   }
   return res;
 }

@@ -14,12 +14,15 @@
 //     of a farther wall changes the lengths of its edges to the wall very little (they point
 //     along the depth, where the noise is largest); in the tests a third to a half of such
 //     edges stay within the noise, and a few kept ones join the object to the background.
-//  4. Regions: moving features joined by kept edges (they move rigidly together), with the
-//     convex hull of their current pixels.
+//  4. Regions: moving features joined by kept edges on one surface (they move rigidly
+//     together), with the Delaunay triangles they cover and their convex hull.
 //
 // Stateless and thread-safe.
 #pragma once
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <opencv2/core.hpp>
@@ -31,11 +34,20 @@
 
 namespace plslam {
 
+/// When a graph edge joins one surface: its two depths differ by at most
+/// max(min_step_m, ratio * the nearer depth). Edges from a person to the wall behind do not.
+struct SameSurfaceOptions {
+  double min_step_m = 0.20;  ///< depth step always allowed (metres)
+  double ratio = 0.05;       ///< depth step allowed as a fraction of the nearer depth
+  bool joins(double z_a, double z_b) const { return std::abs(z_a - z_b) <= std::max(min_step_m, ratio * std::min(z_a, z_b)); }
+};
+
 struct DelaunayMotionOptions {
   MotionCheckOptions motion;       ///< noise model of the edge test; the geometric check when none is given
   double chi2_length = 10.83;      ///< edge broken when (length change)^2 / variance exceeds this (1 dof, 99.9%)
   double static_group_fraction = 0.3;  ///< without a camera motion, rigid groups with this fraction of the features, and the largest, are static
   int min_region_features = 3;     ///< moving regions smaller than this are not reported (their features stay flagged)
+  SameSurfaceOptions region_surface;  ///< regions grow only over edges that join one surface
 };
 
 enum class DelaunayStatus {
@@ -58,6 +70,9 @@ struct DelaunayEdge {
 struct MovingRegion {
   std::vector<int> features;        ///< correspondence indices
   std::vector<cv::Point2f> hull;    ///< convex hull of their current pixels (image coordinates)
+  /// The Delaunay triangles with all three corners in the region: the area it covers (tighter
+  /// than the hull, which also spans the background between a walker's legs).
+  std::vector<std::array<cv::Point2f, 3>> triangles;
 };
 
 struct DelaunayMotionResult {

@@ -125,9 +125,14 @@ DynamicMaskResult fuseDynamicMask(const DynamicEvidence& ev, cv::Size size, cons
         d.dynamic = true;
         d.reason = RegionDecisionReason::kAccepted;
         ++res.stats.regions_dynamic;
-        std::vector<cv::Point> hull;
-        for (const auto& p : regions[r].hull) hull.emplace_back(static_cast<int>(std::lround(p.x)), static_cast<int>(std::lround(p.y)));
-        if (!hull.empty()) cv::fillConvexPoly(dynamic_area, hull, cv::Scalar(255));
+        auto fill = [&](const auto& polygon) {
+          std::vector<cv::Point> pts;
+          for (const auto& p : polygon) pts.emplace_back(static_cast<int>(std::lround(p.x)), static_cast<int>(std::lround(p.y)));
+          if (!pts.empty()) cv::fillConvexPoly(dynamic_area, pts, cv::Scalar(255));
+        };
+        // The triangles the region covers; the hull only when it has none (a thin chain).
+        for (const auto& t : regions[r].triangles) fill(t);
+        if (regions[r].triangles.empty()) fill(regions[r].hull);
         for (int i : regions[r].features) res.feature_dynamic[i] = 1;
       }
       res.regions.push_back(d);

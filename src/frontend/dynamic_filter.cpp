@@ -3,6 +3,8 @@
 #include <chrono>
 #include <cmath>
 
+#include <opencv2/imgproc.hpp>
+
 #include "core/log.h"
 #include "features/matching.h"
 
@@ -153,6 +155,7 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
     po.radius_px = options_.match_radius_px;
     po.max_distance = options_.match_max_distance;
     po.octave_window = -1;
+    po.ratio = options_.match_ratio;
     const PointGrid grid(uv, camera_.width, camera_.height);
     for (const DescriptorMatch& m :
          matchPointsByProjection(predictions, before->point_descriptors, grid, {}, f->point_descriptors, po)) {
@@ -176,8 +179,33 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
     prior = SE3();
     for (int i = 0; i < gap; ++i) prior = *prior_T_cur_prev * *prior;
   }
-  const MotionCheckResult motion = checkMotion(corr, camera_, options_.motion, prior);
+  MotionCheckResult motion = checkMotion(corr, camera_, options_.motion, prior);
   r.motion_status = motion.status;
+
+  // Per keypoint labels from the check, spread over the graph of all keypoints: unmatched
+  // keypoints take their neighbours' verdict, isolated moving flags are mismatches.
+  r.point_motion.assign(f->points.size(), -1);
+  if (motion.ok())
+    for (size_t i = 0; i < corr.size(); ++i)
+      if (motion.evidence[i] != MotionEvidence::kNone) r.point_motion[corr_keypoint[i]] = motion.moving[i];
+  std::vector<int8_t> checked_motion = r.point_motion;
+  std::vector<std::array<cv::Point2f, 3>> moving_triangles;
+  if (options_.spread_labels && motion.ok()) {
+    std::vector<Eigen::Vector2d> uv;
+    std::vector<double> depth;
+    for (const Keypoint& k : f->points) {
+      uv.push_back(k.uv);
+      depth.push_back(k.depth_m);
+    }
+    LabelSpreadResult spread =
+        spreadMotionLabels(uv, depth, r.point_motion, cv::Size(camera_.width, camera_.height), options_.spread);
+    r.points_mismatch_cleared = spread.isolated_cleared;
+    moving_triangles = std::move(spread.moving_triangles);
+    r.point_motion = std::move(spread.labels);
+    for (size_t i = 0; i < corr.size(); ++i)
+      if (motion.moving[i] && r.point_motion[corr_keypoint[i]] == 0) motion.moving[i] = 0;
+  }
+
   const DelaunayMotionResult delaunay = analyseDelaunayMotion(corr, camera_, options_.delaunay, &motion);
   DynamicEvidence evidence;
   evidence.correspondences = &corr;
@@ -186,6 +214,18 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
   evidence.segmentation = seg.empty() ? nullptr : &seg;
   const DynamicMaskResult fused = fuseDynamicMask(evidence, cv::Size(camera_.width, camera_.height), options_.mask);
   r.mask = fused.mask;
+  if (!moving_triangles.empty()) {  // the moving area of all keypoints, grown like the fused mask
+    cv::Mat area(r.mask.size(), CV_8UC1, cv::Scalar(0));
+    for (const auto& t : moving_triangles) {
+      const cv::Point pts[3] = {t[0], t[1], t[2]};
+      cv::fillConvexPoly(area, pts, 3, cv::Scalar(255));
+    }
+    if (options_.moving_area_dilate_px > 0) {
+      const int d = options_.moving_area_dilate_px;
+      cv::dilate(area, area, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * d + 1, 2 * d + 1)));
+    }
+    r.mask.setTo(0, area);
+  }
   r.instances = fused.stats.instances;
   r.instances_dynamic = fused.stats.instances_dynamic;
   r.segmentation = seg;
@@ -194,6 +234,11 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
   std::vector<uint8_t> point_dynamic(f->points.size(), 0);
   for (size_t i = 0; i < corr_keypoint.size(); ++i)
     if (i < fused.feature_dynamic.size() && fused.feature_dynamic[i]) point_dynamic[corr_keypoint[i]] = 1;
+  for (size_t k = 0; k < point_dynamic.size(); ++k)
+    if (checked_motion[k] < 0 && r.point_motion[k] == 1) {
+      point_dynamic[k] = 1;
+      ++r.points_unmatched_moving;
+    }
   std::tie(r.points_rejected, r.lines_rejected) =
       removeDynamicFeatures(f, fused.mask, point_dynamic, options_.line_masked_fraction);
   r.filter_ms = msSince(t0);

@@ -24,6 +24,7 @@
 #include "core/map.h"
 #include "dynamic/delaunay_motion.h"
 #include "dynamic/dynamic_mask.h"
+#include "dynamic/label_spread.h"
 #include "dynamic/motion_check.h"
 #include "dynamic/segmenter.h"
 
@@ -36,9 +37,13 @@ struct DynamicFilterOptions {
                                    ///< moves too little between adjacent 30 Hz frames to be seen)
   double match_radius_px = 40.0;   ///< search radius for the previous frame's keypoints
   int match_max_distance = 60;     ///< ORB Hamming distance accepted between adjacent frames
+  float match_ratio = 0.7f;        ///< best < ratio * second best (0.9 let repeated textures and edges give consistent mismatches)
   double line_masked_fraction = 0.3;  ///< lines with more than this fraction of samples on dynamic pixels are removed
   MotionCheckOptions motion;       ///< geometric check between adjacent frames
   DelaunayMotionOptions delaunay;  ///< Delaunay graph check
+  bool spread_labels = true;       ///< spread motion labels over the graph of all keypoints (label_spread.h)
+  LabelSpreadOptions spread;       ///< how
+  int moving_area_dilate_px = 0;   ///< the spread moving area grows by this many pixels in the mask
   DynamicMaskOptions mask;         ///< fusion into the dynamic mask
 };
 
@@ -56,6 +61,11 @@ struct DynamicFrameResult {
   int instances = 0;          ///< instances in the segmentation used
   Segmentation segmentation;  ///< the (possibly carried-over) segmentation used; empty without one
   std::vector<InstanceDecision> decisions;  ///< per instance of `segmentation`: dynamic or not, and why
+  /// Per input keypoint, what the geometric checks said, after label spreading and before
+  /// masks were applied: -1 unjudged, 0 still, 1 moving.
+  std::vector<int8_t> point_motion;
+  int points_unmatched_moving = 0;  ///< keypoints without a correspondence labelled moving by their neighbours
+  int points_mismatch_cleared = 0;  ///< isolated moving flags taken for mismatches
 };
 
 class DynamicFilter {
