@@ -29,7 +29,8 @@ double number(const XmlNode& parent, const char* key, const std::string& path, b
 
 int integer(const XmlNode& parent, const char* key, const std::string& path) {
   const double v = number(parent, key, path, true, 0);
-  if (v != static_cast<double>(static_cast<long long>(v)) || v < -1e9 || v > 1e9)
+  // The range check first: converting a double outside long long's range is undefined.
+  if (!(v >= -1e9 && v <= 1e9) || v != static_cast<double>(static_cast<long long>(v)))
     throw IoError(str(path, ": <", key, "> must be a whole number, got ", v));
   return static_cast<int>(v);
 }

@@ -106,6 +106,9 @@ TEST(CameraFile, MalformedFilesAreRefusedWithTheProblem) {
   expectRefused(replaced(kGood, "<px>500</px>", ""), {"px"});
   expectRefused(replaced(kGood, "<u0>320</u0>", "<u0>2000</u0>"), {"principal point"});
   expectRefused(replaced(kGood, "<image_width>640</image_width>", "<image_width>6.5</image_width>"), {"image_width"});
+  // Beyond long long: was converted before the range check (undefined; found by fuzzing).
+  expectRefused(replaced(kGood, "<image_width>640</image_width>", "<image_width>6" + std::string(40, '8') + "</image_width>"),
+                {"image_width", "whole number"});
   expectRefused(replaced(kGood, "perspectiveProjWithoutDistortion", "fisheye"), {"fisheye"});
   expectRefused(replaced(kGood, "<depth_scale>1000</depth_scale>", "<depth_scale>-1</depth_scale>"), {"depth scale"});
   EXPECT_THROW(parseCameraFile(kGood, "c.xml", "other_name"), IoError);
