@@ -150,7 +150,10 @@ OccupancyGrid projectToGrid(const octomap::OcTree& tree, const FloorPlane& floor
 
   // Cell (integer grid-frame coordinates) -> state; occupied wins over free.
   std::unordered_map<int64_t, int8_t> marks;
-  const auto cellKey = [](int64_t cx, int64_t cy) { return (cx << 32) ^ (cy & 0xffffffffLL); };
+  // Shifted as unsigned: a left shift of a negative cx is undefined before C++20 (UBSan).
+  const auto cellKey = [](int64_t cx, int64_t cy) {
+    return static_cast<int64_t>((static_cast<uint64_t>(cx) << 32) ^ (static_cast<uint64_t>(cy) & 0xffffffffULL));
+  };
   for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
     const double size = it.getSize();
     const bool occupied = tree.isNodeOccupied(*it);
