@@ -47,8 +47,10 @@ for t in "${targets[@]}"; do
   "$exe" "${budget[@]}" -print_final_stats=1 -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
     -artifact_prefix="$work/" "$work" "$root/fuzz/corpus/$t" >"$log" 2>&1
   rc=$?
-  runs=$(grep -E "^stat::number_of_executed_units" "$log" | awk '{s+=$2} END {print s+0}')
-  speed=$(grep -E "^stat::average_exec_per_sec" "$log" | awk '{s+=$2} END {print s+0}')
+  # The last stats line: a crashed run prints its final stats twice (sanitizer stop, then
+  # libFuzzer's own crash handler), so adding them up would double the figures.
+  runs=$(grep -E "^stat::number_of_executed_units" "$log" | awk '{s=$2} END {print s+0}')
+  speed=$(grep -E "^stat::average_exec_per_sec" "$log" | awk '{s=$2} END {print s+0}')
   corpus=$(find "$work" -maxdepth 1 -type f ! -name '*.log' ! -name 'crash-*' ! -name 'leak-*' ! -name 'timeout-*' ! -name 'oom-*' | wc -l)
   result=ok
   if [ $rc -ne 0 ]; then
