@@ -27,6 +27,23 @@ const char* regionDecisionReasonName(RegionDecisionReason reason) {
   return "unknown";
 }
 
+namespace {
+
+template <typename Polygon>
+void fillPolygon(cv::Mat* area, const Polygon& polygon) {
+  std::vector<cv::Point> pts;
+  for (const auto& p : polygon) pts.emplace_back(static_cast<int>(std::lround(p.x)), static_cast<int>(std::lround(p.y)));
+  if (!pts.empty()) cv::fillConvexPoly(*area, pts, cv::Scalar(255));
+}
+
+void dilate(cv::Mat* area, int radius_px) {
+  if (radius_px <= 0) return;
+  const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius_px + 1, 2 * radius_px + 1));
+  cv::dilate(*area, *area, kernel);
+}
+
+}  // namespace
+
 DynamicMaskResult fuseDynamicMask(const DynamicEvidence& ev, cv::Size size, const DynamicMaskOptions& o) {
   static const std::vector<MotionCorrespondence> kNoCorrespondences;
   const auto& corr = ev.correspondences ? *ev.correspondences : kNoCorrespondences;
@@ -125,14 +142,9 @@ DynamicMaskResult fuseDynamicMask(const DynamicEvidence& ev, cv::Size size, cons
         d.dynamic = true;
         d.reason = RegionDecisionReason::kAccepted;
         ++res.stats.regions_dynamic;
-        auto fill = [&](const auto& polygon) {
-          std::vector<cv::Point> pts;
-          for (const auto& p : polygon) pts.emplace_back(static_cast<int>(std::lround(p.x)), static_cast<int>(std::lround(p.y)));
-          if (!pts.empty()) cv::fillConvexPoly(dynamic_area, pts, cv::Scalar(255));
-        };
         // The triangles the region covers; the hull only when it has none (a thin chain).
-        for (const auto& t : regions[r].triangles) fill(t);
-        if (regions[r].triangles.empty()) fill(regions[r].hull);
+        for (const auto& t : regions[r].triangles) fillPolygon(&dynamic_area, t);
+        if (regions[r].triangles.empty()) fillPolygon(&dynamic_area, regions[r].hull);
         for (int i : regions[r].features) res.feature_dynamic[i] = 1;
       }
       res.regions.push_back(d);
@@ -148,9 +160,12 @@ DynamicMaskResult fuseDynamicMask(const DynamicEvidence& ev, cv::Size size, cons
                  o.feature_radius_px, cv::Scalar(255), cv::FILLED);
   }
 
-  if (o.dilate_px > 0) {
-    const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * o.dilate_px + 1, 2 * o.dilate_px + 1));
-    cv::dilate(dynamic_area, dynamic_area, kernel);
+  dilate(&dynamic_area, o.dilate_px);
+  if (ev.moving_triangles && !ev.moving_triangles->empty()) {  // grown on its own: its triangles lie on the object
+    cv::Mat moving_area(size, CV_8UC1, cv::Scalar(0));
+    for (const auto& t : *ev.moving_triangles) fillPolygon(&moving_area, t);
+    dilate(&moving_area, o.moving_area_dilate_px);
+    dynamic_area |= moving_area;
   }
   res.mask.setTo(0, dynamic_area);
   res.stats.dynamic_pixels = cv::countNonZero(dynamic_area);

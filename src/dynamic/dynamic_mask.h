@@ -12,10 +12,13 @@
 // A feature's evidence is the geometric check when it has one, else the Delaunay graph's verdict.
 // Delaunay regions that lie mostly outside every instance are dynamic (objects of unknown
 // classes, or no segmenter) unless the geometric check finds their features still.
+// The moving area found by spreading labels over all keypoints (label_spread.h), when given,
+// is masked too.
 //
 // Stateless and thread-safe.
 #pragma once
 
+#include <array>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -36,6 +39,7 @@ struct DynamicMaskOptions {
   int region_min_checked = 3;          ///< a region is contradicted only when this many of its features have a geometric check
   double region_min_moving_fraction = 0.5;  ///< ... and fewer than this fraction of them move
   int dilate_px = 5;                   ///< dynamic areas grow by this many pixels (mask borders, depth edges)
+  int moving_area_dilate_px = 0;       ///< the spread moving area (DynamicEvidence::moving_triangles) grows by this many pixels
   int feature_radius_px = 0;           ///< moving features outside dynamic areas also mask a disc of this radius (0: flag only)
 };
 
@@ -98,6 +102,9 @@ struct DynamicEvidence {
   const MotionCheckResult* motion = nullptr;
   const DelaunayMotionResult* delaunay = nullptr;
   const Segmentation* segmentation = nullptr;
+  /// Triangles of keypoints judged moving after label spreading (label_spread.h), current
+  /// pixels: masked as they are, grown by moving_area_dilate_px only.
+  const std::vector<std::array<cv::Point2f, 3>>* moving_triangles = nullptr;
 };
 
 /// Fuses the evidence into the dynamic mask of an image of `image_size`. Throws DataError when

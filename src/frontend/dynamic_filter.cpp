@@ -3,8 +3,6 @@
 #include <chrono>
 #include <cmath>
 
-#include <opencv2/imgproc.hpp>
-
 #include "core/log.h"
 #include "features/matching.h"
 
@@ -199,7 +197,6 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
     }
     LabelSpreadResult spread =
         spreadMotionLabels(uv, depth, r.point_motion, cv::Size(camera_.width, camera_.height), options_.spread);
-    r.points_mismatch_cleared = spread.isolated_cleared;
     moving_triangles = std::move(spread.moving_triangles);
     r.point_motion = std::move(spread.labels);
     for (size_t i = 0; i < corr.size(); ++i)
@@ -212,20 +209,9 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
   evidence.motion = &motion;
   evidence.delaunay = &delaunay;
   evidence.segmentation = seg.empty() ? nullptr : &seg;
+  evidence.moving_triangles = &moving_triangles;
   const DynamicMaskResult fused = fuseDynamicMask(evidence, cv::Size(camera_.width, camera_.height), options_.mask);
   r.mask = fused.mask;
-  if (!moving_triangles.empty()) {  // the moving area of all keypoints, grown like the fused mask
-    cv::Mat area(r.mask.size(), CV_8UC1, cv::Scalar(0));
-    for (const auto& t : moving_triangles) {
-      const cv::Point pts[3] = {t[0], t[1], t[2]};
-      cv::fillConvexPoly(area, pts, 3, cv::Scalar(255));
-    }
-    if (options_.moving_area_dilate_px > 0) {
-      const int d = options_.moving_area_dilate_px;
-      cv::dilate(area, area, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * d + 1, 2 * d + 1)));
-    }
-    r.mask.setTo(0, area);
-  }
   r.instances = fused.stats.instances;
   r.instances_dynamic = fused.stats.instances_dynamic;
   r.segmentation = seg;
@@ -234,11 +220,8 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
   std::vector<uint8_t> point_dynamic(f->points.size(), 0);
   for (size_t i = 0; i < corr_keypoint.size(); ++i)
     if (i < fused.feature_dynamic.size() && fused.feature_dynamic[i]) point_dynamic[corr_keypoint[i]] = 1;
-  for (size_t k = 0; k < point_dynamic.size(); ++k)
-    if (checked_motion[k] < 0 && r.point_motion[k] == 1) {
-      point_dynamic[k] = 1;
-      ++r.points_unmatched_moving;
-    }
+  for (size_t k = 0; k < point_dynamic.size(); ++k)  // unmatched keypoints their neighbours found moving
+    if (checked_motion[k] < 0 && r.point_motion[k] == 1) point_dynamic[k] = 1;
   std::tie(r.points_rejected, r.lines_rejected) =
       removeDynamicFeatures(f, fused.mask, point_dynamic, options_.line_masked_fraction);
   r.filter_ms = msSince(t0);

@@ -43,7 +43,6 @@ struct DynamicFilterOptions {
   DelaunayMotionOptions delaunay;  ///< Delaunay graph check
   bool spread_labels = true;       ///< spread motion labels over the graph of all keypoints (label_spread.h)
   LabelSpreadOptions spread;       ///< how
-  int moving_area_dilate_px = 0;   ///< the spread moving area grows by this many pixels in the mask
   DynamicMaskOptions mask;         ///< fusion into the dynamic mask
 };
 
@@ -64,8 +63,6 @@ struct DynamicFrameResult {
   /// Per input keypoint, what the geometric checks said, after label spreading and before
   /// masks were applied: -1 unjudged, 0 still, 1 moving.
   std::vector<int8_t> point_motion;
-  int points_unmatched_moving = 0;  ///< keypoints without a correspondence labelled moving by their neighbours
-  int points_mismatch_cleared = 0;  ///< isolated moving flags taken for mismatches
 };
 
 class DynamicFilter {

@@ -43,7 +43,7 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
   t->bind("dynamic.spread_labels", &d.spread_labels, "spread motion labels to unmatched keypoints over the Delaunay graph of all keypoints");
   t->bind("dynamic.mismatch_still_neighbours", &d.spread.min_still_neighbours, "a moving keypoint with no moving graph neighbour and this many still ones is a mismatch");
   t->bind("dynamic.spread_passes", &d.spread.passes, "rounds of label spreading (graph rings)");
-  t->bind("dynamic.moving_area_dilate_px", &d.moving_area_dilate_px, "the spread moving area grows by this many pixels");
+  t->bind("dynamic.moving_area_dilate_px", &d.mask.moving_area_dilate_px, "the spread moving area grows by this many pixels");
   t->bind("dynamic.moving_fraction", &d.mask.moving_fraction, "an instance moves when this fraction of its checked features move");
   t->bind("dynamic.min_checked_features", &d.mask.min_checked_features, "fewer checked features: the class prior decides");
   t->bind("dynamic.dilate_px", &d.mask.dilate_px, "dynamic areas grow by this many pixels");
