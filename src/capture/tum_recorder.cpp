@@ -79,14 +79,7 @@ void TumRecorder::add(const RgbdFrame& frame) {
   checkImageSize(camera_, frame.depth_m.cols, frame.depth_m.rows, "recorded depth frame " + frame.name);
   rethrowFailure();
   if (queue_) {
-    // Deep copies: the grabber may reuse its buffers.
-    RgbdFrame copy;
-    copy.t_ns = frame.t_ns;
-    copy.index = frame.index;
-    copy.bgr = frame.bgr.clone();
-    copy.depth_m = frame.depth_m.clone();
-    copy.name = frame.name;
-    queue_->push(std::move(copy));
+    queue_->push(deepCopy(frame));  // the grabber may reuse its buffers
   } else {
     write(frame);
   }

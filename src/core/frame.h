@@ -17,4 +17,19 @@ struct RgbdFrame {
   std::string name;      ///< file name or other short label for messages
 };
 
+/// A copy that owns its pixels. Anything handed to another thread gets one: callers reuse
+/// their buffers (a grabber writes the next image into the same memory), and OpenCV's
+/// reference counts are invisible to ThreadSanitizer, so shared buffers are never shared
+/// across threads here.
+inline RgbdFrame deepCopy(const RgbdFrame& f) {
+  RgbdFrame c;
+  c.t_ns = f.t_ns;
+  c.index = f.index;
+  c.bgr = f.bgr.clone();
+  c.depth_m = f.depth_m.clone();
+  c.instance_ids = f.instance_ids.clone();
+  c.name = f.name;
+  return c;
+}
+
 }  // namespace plslam

@@ -118,7 +118,7 @@ Segmentation DynamicFilter::latestSegmentation(const RgbdFrame& frame, DynamicFr
     // request: waiting for the next multiple of `every` would add up to every-1 frames of age.
     const bool waited = last_request_frame_ < 0 || frame_count_ - last_request_frame_ >= every;
     if (waited && !busy_ && !pending_) {
-      pending_ = frame;  // the images are shared, not copied
+      pending_ = deepCopy(frame);  // the worker owns its images (see deepCopy)
       pending_frame_ = frame_count_;
       last_request_frame_ = frame_count_;
       wake_.notify_one();

@@ -23,10 +23,12 @@ struct System::Pipeline {
   /// What the mapping thread gets of a new keyframe's frame.
   struct KeyframeJob {
     Id keyframe;
+    // The job owns its pixels (deep copies): the mapping thread must not share buffers
+    // with the caller, who may reuse them (see deepCopy in core/frame.h).
     cv::Mat depth_m;
     cv::Mat bgr;
-    cv::Mat dynamic_mask;       ///< CV_8U, 0 = moving objects (empty: no filtering)
-    Segmentation segmentation;  ///< the masks used for the frame (empty without a segmenter)
+    cv::Mat dynamic_mask;  ///< CV_8U, 0 = moving objects (empty: no filtering)
+    cv::Mat classes;       ///< classImage() of the frame's masks (empty without a segmenter)
   };
   Pipeline(Map* map, const PinholeCamera& camera, const SystemOptions& o)
       : tracker(map, camera, o.tracker),
@@ -41,7 +43,7 @@ struct System::Pipeline {
     if (dense.enabled) {
       // The cloud is made outside the lock (a few ms) and stored under it.
       std::vector<DensePoint> cloud =
-          makeKeyframeCloud(camera, job.bgr, job.depth_m, job.dynamic_mask, classImage(job.segmentation), dense);
+          makeKeyframeCloud(camera, job.bgr, job.depth_m, job.dynamic_mask, job.classes, dense);
       std::lock_guard<std::mutex> lock(map->mutex());
       if (KeyFrame* kf = map->keyframe(job.keyframe)) kf->dense = std::move(cloud);
     }
@@ -124,7 +126,8 @@ TrackingResult System::feed(const RgbdFrame& frame, const cv::Mat& mask) {
   records_.push_back(rec);
   tracking.unlock();
   if (r.new_keyframe) {
-    Pipeline::KeyframeJob job{r.keyframe_id, frame.depth_m, frame.bgr, dyn.mask, dyn.segmentation};
+    Pipeline::KeyframeJob job{r.keyframe_id, frame.depth_m.clone(), frame.bgr.clone(), dyn.mask.clone(),
+                              classImage(dyn.segmentation)};
     if (options_.sequential) pipeline_->processKeyframe(job);
     else pipeline_->queue.push(std::move(job));
   }
