@@ -116,3 +116,25 @@ TEST(EvalCli, BadOptionValuesAreRefused) {
   EXPECT_EQ(missing.status, 2) << missing.out;
   EXPECT_NE(missing.out.find("--est"), std::string::npos) << missing.out;
 }
+
+TEST(EvalCli, LoopsOnTheSyntheticLapFindTheRevisitWithPrecisionOneAtTheOperatingThreshold) {
+  // A short lap (150 frames at 320 x 240), every second frame: the curves, the plot and the
+  // operating point after geometric verification, which is what a run would accept.
+  const std::string scratch = test::scratchDir("evalloops");
+  const std::string data = scratch + "/lap";
+  const auto synth = test::runPlslam("synth --scene loop --frames 150 --width 320 --height 240 --out " + data);
+  ASSERT_EQ(synth.status, 0) << synth.output;
+  const CliRun r = run("loops --dataset " + data + " --out " + scratch + "/pr --every 2 --segmenter replay");
+  ASSERT_EQ(r.status, 0) << r.out;
+  const std::string json = test::readFile(scratch + "/pr/summary.json");
+  const size_t verified = json.find("\"verified_at_threshold\"");
+  ASSERT_NE(verified, std::string::npos) << json;
+  EXPECT_GT(jsonNumber(json, "queries_with_true_loop"), 0) << json;
+  EXPECT_DOUBLE_EQ(jsonNumber(json, "precision", verified), 1.0) << "a false loop passed verification:\n" << json;
+  EXPECT_GT(jsonNumber(json, "recall", verified), 0.3) << json;
+  EXPECT_GE(jsonNumber(json, "semantic_min_precision_margin"), 0.0) << json;
+  EXPECT_FALSE(cv::imread(scratch + "/pr/pr.png").empty());
+  const std::string csv = test::readFile(scratch + "/pr/pr.csv");
+  for (const char* variant : {"\nORB,", "\nLBD,", "\nORB+LBD,", "\nORB+LBD+semantic,"})
+    EXPECT_NE(csv.find(variant), std::string::npos) << variant;
+}

@@ -9,6 +9,14 @@
 // stand-in for covisible keyframes). Sweeping a threshold on that score gives precision
 // (correct proposals / proposals) and recall (correct proposals / queries that have a true
 // match), for four variants: ORB only, LBD only, ORB+LBD, ORB+LBD+semantic.
+//
+// The operating point is the loop closer's threshold (--threshold, default its
+// loop.min_normalised_score). There each variant's appearance-only precision and recall are
+// reported, and the full variant's proposals are also put through the loop closer's
+// geometric verification (3D-3D RANSAC with depth), which is what decides in a run (its
+// two-keyframe consistency check is not applied here). After verification a loop is false
+// when its relative pose is wrong (--pose-tolerance-*): an accepted view just beyond the
+// ground-truth radius, with the right pose, is an overlap and helps a correction.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -25,6 +33,7 @@
 #include "core/log.h"
 #include "dynamic/segmenter.h"
 #include "dynamic/semantic_labels.h"
+#include "eval/precision_recall.h"
 #include "frontend/feature_extraction.h"
 #include "io/dataset.h"
 #include "loop/loop_closer.h"
@@ -36,21 +45,16 @@ namespace {
 struct FrameInfo {
   TimeNs t_ns = 0;
   SE3 T_w_c;
+  FrameFeatures features;
   KeyframeBow bow;
   std::vector<KeyframeInstance> instances;
 };
 
-struct Proposal {
-  double score = 0;
-  bool correct = false;
-};
-
 struct Curve {
   std::string name;
-  std::vector<Proposal> proposals;
-  int positives = 0;
-  std::vector<std::array<double, 3>> points;  // threshold, precision, recall
-  double recall_at_p1 = 0;
+  std::vector<ScoredProposal> proposals;
+  PrCurve pr;
+  PrPoint at_threshold;  ///< appearance only
 };
 
 const SE3* groundTruthAt(const Trajectory& gt, TimeNs t, TimeNs max_diff) {
@@ -60,7 +64,8 @@ const SE3* groundTruthAt(const Trajectory& gt, TimeNs t, TimeNs max_diff) {
   return best ? &best->T_w_c : nullptr;
 }
 
-void drawCurves(const std::string& path, const std::vector<Curve>& curves, const std::string& title) {
+void drawCurves(const std::string& path, const std::vector<Curve>& curves, const PrPoint& verified,
+                const std::string& title) {
   const int W = 720, H = 560, L = 70, R = 20, T = 40, B = 60;
   cv::Mat img(H, W, CV_8UC3, cv::Scalar(255, 255, 255));
   auto px = [&](double recall, double precision) {
@@ -82,14 +87,24 @@ void drawCurves(const std::string& path, const std::vector<Curve>& curves, const
   const cv::Scalar colours[] = {cv::Scalar(200, 80, 0), cv::Scalar(0, 140, 0), cv::Scalar(0, 0, 220), cv::Scalar(160, 0, 160)};
   for (size_t c = 0; c < curves.size(); ++c) {
     std::vector<cv::Point> poly;
-    for (const auto& p : curves[c].points) poly.push_back(px(p[2], p[1]));
+    for (const PrPoint& p : curves[c].pr.points) poly.push_back(px(p.recall, p.precision));
     if (poly.size() > 1) cv::polylines(img, poly, false, colours[c % 4], 2, cv::LINE_AA);
+    // The operating threshold on each curve.
+    cv::circle(img, px(curves[c].at_threshold.recall, curves[c].at_threshold.precision), 5, colours[c % 4], 1, cv::LINE_AA);
     char buf[128];
-    std::snprintf(buf, sizeof(buf), "%s (recall@P1 %.2f)", curves[c].name.c_str(), curves[c].recall_at_p1);
+    std::snprintf(buf, sizeof(buf), "%s (recall@P1 %.2f)", curves[c].name.c_str(), curves[c].pr.recall_at_precision_1);
     const cv::Point at(L + 15, H - B - 20 - 20 * static_cast<int>(curves.size() - 1 - c));
     cv::line(img, at + cv::Point(0, -4), at + cv::Point(25, -4), colours[c % 4], 2, cv::LINE_AA);
     cv::putText(img, buf, at + cv::Point(32, 0), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(30, 30, 30), 1, cv::LINE_AA);
   }
+  // The full variant after geometric verification: the run's operating point.
+  const cv::Point v = px(verified.recall, verified.precision);
+  cv::drawMarker(img, v, cv::Scalar(0, 0, 0), cv::MARKER_STAR, 14, 2, cv::LINE_AA);
+  char buf[128];
+  std::snprintf(buf, sizeof(buf), "* verified at threshold %.2f: P %.2f R %.2f", verified.threshold, verified.precision,
+                verified.recall);
+  cv::putText(img, buf, cv::Point(L + 15, H - B - 20 - 20 * static_cast<int>(curves.size())), cv::FONT_HERSHEY_SIMPLEX,
+              0.45, cv::Scalar(30, 30, 30), 1, cv::LINE_AA);
   std::vector<uchar> png;
   if (!cv::imencode(".png", img, png)) throw IoError(path + ": cannot encode the plot");
   writeFileAtomically(path, std::string(png.begin(), png.end()));
@@ -106,6 +121,9 @@ int runEvalLoops(int argc, char** argv) {
       .option("angle", "same place: optical axes within this angle, degrees", "20")
       .option("min-gap", "pairs closer in time than this are not loops, seconds", "3")
       .option("every", "use every N-th frame", "1")
+      .option("threshold", "operating threshold on the normalised score (default: the loop closer's)")
+      .option("pose-tolerance-m", "a verified loop is false when its relative pose is off by more than this, metres", "0.1")
+      .option("pose-tolerance-deg", "... or by more than this, degrees", "3")
       .option("vocab", "vocabulary file (default: the shipped one)")
       .option("segmenter", "instances for the semantic variant: none, replay (masks of the folder) or a YOLOv8-seg .onnx",
               "none")
@@ -137,7 +155,8 @@ int runEvalLoops(int argc, char** argv) {
     FrameInfo f;
     f.t_ns = frame.t_ns;
     f.T_w_c = *T;
-    f.bow = describeBow(vocab, extractFeatures(frame, cv::Mat(), camera, fo));
+    f.features = extractFeatures(frame, cv::Mat(), camera, fo);
+    f.bow = describeBow(vocab, f.features);
     if (so.kind != SegmenterKind::kNone)
       f.instances = describeInstances(segmenter->segment(frame), {}, frame.depth_m, camera);
     frames.push_back(std::move(f));
@@ -157,6 +176,7 @@ int runEvalLoops(int argc, char** argv) {
     return (a.T_w_c.translation() - b.T_w_c.translation()).norm() < distance && za.dot(zb) > cos_angle;
   };
   LoopOptions lo;
+  const double threshold = args.has("threshold") ? args.number("threshold") : lo.min_normalised_score;
   const double diagonal = std::hypot(camera.width, camera.height);
   std::vector<Curve> curves(4);
   for (int v = 0; v < 4; ++v) curves[v].name = std::vector<std::string>{"ORB", "LBD", "ORB+LBD", "ORB+LBD+semantic"}[v];
@@ -169,7 +189,12 @@ int runEvalLoops(int argc, char** argv) {
       s *= matchInstances(a.instances, b.instances, diagonal, lo.semantic).factor;
     return s;
   };
-  int queries_with_truth = 0;
+  struct Verified {
+    int accepted = 0, right_pose = 0, same_place = 0;
+    double worst_right_t_m = 0;
+  } verified;
+  const double pose_tol_m = args.number("pose-tolerance-m"), pose_tol_rad = args.number("pose-tolerance-deg") * M_PI / 180;
+  int queries_with_truth = 0, verifications = 0;
   for (size_t i = 0; i < frames.size(); ++i) {
     const FrameInfo& q = frames[i];
     bool has_truth = false, has_candidate = false;
@@ -191,7 +216,24 @@ int runEvalLoops(int argc, char** argv) {
         const double s = variantScore(v, q, frames[j]);
         if (s > best) best = s, best_j = j;
       }
-      curves[v].proposals.push_back({reference > 0 ? best / reference : best, samePlace(q, frames[best_j])});
+      const ScoredProposal p{reference > 0 ? best / reference : best, samePlace(q, frames[best_j])};
+      if (v == 3 && p.score >= threshold) {
+        LoopCandidate c;
+        verifyGeometry(q.features, frames[best_j].features, camera, lo, &c);
+        if (c.status == LoopStatus::kAccepted) {
+          // A false loop is one whose verified relative pose is wrong: an accepted view just
+          // beyond the ground-truth radius (an overlap at 25 degrees) with the right pose is not.
+          const SE3 err = (q.T_w_c.inverse() * frames[best_j].T_w_c).inverse() * c.T_query_candidate;
+          const bool right = err.translation().norm() < pose_tol_m &&
+                             err.quaternion().angularDistance(Eigen::Quaterniond::Identity()) < pose_tol_rad;
+          ++verified.accepted;
+          verified.right_pose += right;
+          verified.same_place += p.correct;
+          if (right) verified.worst_right_t_m = std::max(verified.worst_right_t_m, err.translation().norm());
+        }
+        ++verifications;
+      }
+      curves[v].proposals.push_back(p);
     }
   }
   std::ostringstream csv, json;
@@ -201,31 +243,42 @@ int runEvalLoops(int argc, char** argv) {
        << ", \"min_gap_s\": " << gap_s << ",\n  \"variants\": {";
   for (size_t v = 0; v < curves.size(); ++v) {
     Curve& c = curves[v];
-    c.positives = queries_with_truth;
-    std::vector<Proposal> sorted = c.proposals;
-    std::sort(sorted.begin(), sorted.end(), [](const Proposal& a, const Proposal& b) { return a.score > b.score; });
-    int tp = 0, fp = 0;
-    bool clean = true;
-    for (size_t k = 0; k < sorted.size(); ++k) {
-      (sorted[k].correct ? tp : fp) += 1;
-      if (k + 1 < sorted.size() && sorted[k + 1].score == sorted[k].score) continue;
-      const double precision = static_cast<double>(tp) / (tp + fp);
-      const double recall = c.positives ? static_cast<double>(tp) / c.positives : 0.0;
-      c.points.push_back({sorted[k].score, precision, recall});
-      if (fp > 0) clean = false;
-      if (clean) c.recall_at_p1 = recall;
-      csv << c.name << "," << sorted[k].score << "," << precision << "," << recall << "," << tp << "," << fp << "\n";
-    }
-    json << (v ? "," : "") << "\n    \"" << c.name << "\": {\"recall_at_precision_1\": " << c.recall_at_p1
-         << ", \"proposals\": " << c.proposals.size() << "}";
-    std::printf("%-18s recall at precision 1.0: %.3f  (%d queries with a true loop, %zu proposals)\n", c.name.c_str(),
-                c.recall_at_p1, c.positives, c.proposals.size());
+    c.pr = precisionRecall(c.proposals, queries_with_truth);
+    c.at_threshold = operatingPoint(c.proposals, queries_with_truth, threshold);
+    for (const PrPoint& p : c.pr.points)
+      csv << c.name << "," << p.threshold << "," << p.precision << "," << p.recall << "," << p.true_positives << ","
+          << p.false_positives << "\n";
+    json << (v ? "," : "") << "\n    \"" << c.name << "\": {\"recall_at_precision_1\": " << c.pr.recall_at_precision_1
+         << ", \"precision_at_threshold\": " << c.at_threshold.precision << ", \"recall_at_threshold\": "
+         << c.at_threshold.recall << ", \"proposals\": " << c.proposals.size() << "}";
+    std::printf("%-18s recall at precision 1.0: %.3f; at threshold %.2f: precision %.3f recall %.3f  (%d queries with a "
+                "true loop, %zu proposals)\n",
+                c.name.c_str(), c.pr.recall_at_precision_1, threshold, c.at_threshold.precision, c.at_threshold.recall,
+                queries_with_truth, c.proposals.size());
   }
-  json << "\n  }\n}\n";
+  PrPoint at_verified;  // precision: right relative poses / accepted; recall: accepted same places / true loops
+  at_verified.threshold = threshold;
+  at_verified.true_positives = verified.right_pose;
+  at_verified.false_positives = verified.accepted - verified.right_pose;
+  at_verified.precision = verified.accepted ? static_cast<double>(verified.right_pose) / verified.accepted : 1.0;
+  at_verified.recall = queries_with_truth ? static_cast<double>(verified.same_place) / queries_with_truth : 0.0;
+  const double semantic_margin = minPrecisionMargin(curves[3].pr, curves[2].pr);
+  json << "\n  },\n  \"threshold\": " << threshold << ",\n  \"verified_at_threshold\": {\"precision\": "
+       << at_verified.precision << ", \"recall\": " << at_verified.recall << ", \"verifications\": " << verifications
+       << ", \"accepted\": " << verified.accepted << ", \"right_pose\": " << verified.right_pose
+       << ", \"same_place\": " << verified.same_place << ", \"worst_right_translation_m\": " << verified.worst_right_t_m
+       << "},\n  \"semantic_min_precision_margin\": " << semantic_margin;
+  std::printf("ORB+LBD+semantic, verified at threshold %.2f: precision %.3f recall %.3f (%d verified, %d accepted, %d "
+              "with the right relative pose, %d within the ground-truth radius)\n",
+              threshold, at_verified.precision, at_verified.recall, verifications, verified.accepted,
+              verified.right_pose, verified.same_place);
+  std::printf("semantic vs ORB+LBD: minimum precision margin over the curve %+.3f (>= 0: at least as good everywhere)\n",
+              semantic_margin);
+  json << "\n}\n";
   std::filesystem::create_directories(out);
   writeFileAtomically(out + "/pr.csv", csv.str());
   writeFileAtomically(out + "/summary.json", json.str());
-  drawCurves(out + "/pr.png", curves, std::filesystem::path(dir).filename().string() + ": loop detection P-R");
+  drawCurves(out + "/pr.png", curves, at_verified, std::filesystem::path(dir).filename().string() + ": loop detection P-R");
   std::printf("outputs: %s/pr.csv pr.png summary.json\n", out.c_str());
   return 0;
 }
