@@ -60,6 +60,8 @@ std::pair<int, int> removeDynamicFeatures(FrameFeatures* f, const cv::Mat& mask,
 DynamicFilter::DynamicFilter(PinholeCamera camera, DynamicFilterOptions options, std::unique_ptr<Segmenter> segmenter,
                              bool asynchronous)
     : camera_(std::move(camera)), options_(options), segmenter_(std::move(segmenter)), asynchronous_(asynchronous) {
+  // The "none" segmenter gives nothing: no worker, no requests, no mask ages to report.
+  if (segmenter_ && segmenter_->name() == "none") segmenter_.reset();
   if (segmenter_ && asynchronous_) worker_ = std::thread([this] { workerLoop(); });
 }
 

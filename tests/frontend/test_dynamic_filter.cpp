@@ -89,6 +89,19 @@ TEST(DynamicFilterSchedule, SequentialSegmentsEveryNthFrameAndAgesTheMasksInBetw
   }
 }
 
+TEST(DynamicFilterSchedule, NoneSegmenterGivesNoMasksToAgeOrCount) {
+  // Geometry-only runs: no frame has a fresh mask and no segmentation time is reported, in
+  // either mode (stats.json's fresh_mask_fraction stays 0).
+  for (const bool asynchronous : {false, true}) {
+    DynamicFilter filter(frames().camera, DynamicFilterOptions{}, std::make_unique<NoneSegmenter>(), asynchronous);
+    for (const DynamicFrameResult& r : runFilter(&filter, std::chrono::milliseconds(0))) {
+      EXPECT_FALSE(r.fresh_segmentation) << (asynchronous ? "threaded" : "sequential");
+      EXPECT_LT(r.segmentation_ms, 0);
+      EXPECT_LT(r.mask_age_frames, 0);
+    }
+  }
+}
+
 TEST(DynamicFilterSchedule, WorkerSegmentsOneFrameAtATimeAndLaterFramesUseItsMasks) {
   std::atomic<int> calls{0}, concurrent{0};
   DynamicFilterOptions o;
