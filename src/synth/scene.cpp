@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <sstream>
 
 #include "core/error.h"
@@ -414,6 +415,34 @@ std::string Scene::describe() const {
   return os.str();
 }
 
+SE3 twinShelfTransform() {
+  return SE3(Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ())), Eigen::Vector3d(0.95, 0, 0));
+}
+
+namespace {
+/// Copies of the shelf's boxes and books (names "twin_shelf/...", same sizes, materials and
+/// texture seeds, so the same textures), without the shelf, put on the floor by the south
+/// wall in another arrangement.
+void addTwinShelf(std::vector<Box>* boxes) {
+  // New centres in the original shelf's frame (the world before the transform).
+  const std::map<std::string, Eigen::Vector3d> moved = {{"shelf/box2", {-1.5, 2.3, 0.15}},
+                                                        {"shelf/books", {-1.5, 2.32, 0.41}},
+                                                        {"shelf/box", {-1.0, 2.25, 0.12}},
+                                                        {"shelf/books2", {-0.6, 2.3, 0.1}}};
+  const SE3 T = twinShelfTransform();
+  std::vector<Box> twins;
+  for (const Box& b : *boxes) {
+    const auto m = moved.find(b.name);
+    if (m == moved.end()) continue;
+    Box t = b;
+    t.name = "twin_" + b.name;
+    t.T_w_b = T * SE3(b.T_w_b.quaternion(), m->second);
+    twins.push_back(t);
+  }
+  boxes->insert(boxes->end(), twins.begin(), twins.end());
+}
+}  // namespace
+
 Scene makeScene(SceneKind kind, const SceneOptions& options) {
   if (options.frames < 1 || options.frames > 1'000'000)
     throw ConfigError(str("synthetic scene: frames must be in [1, 1000000], got ", options.frames));
@@ -430,6 +459,7 @@ Scene makeScene(SceneKind kind, const SceneOptions& options) {
   s.options_ = options;
   s.camera_ = syntheticCamera(options.width, options.height);
   s.static_boxes_ = buildStaticLayout(options.seed);
+  if (options.twin_shelf) addTwinShelf(&s.static_boxes_);
   for (const Box& b : s.static_boxes_) {
     std::array<std::shared_ptr<const FaceTexture>, 6> faces;
     for (int f = 0; f < 6; ++f) faces[f] = std::make_shared<const FaceTexture>(makeFaceTexture(b, f));

@@ -62,6 +62,10 @@ struct SceneOptions {
   int height = 480;            ///< image height, pixels
   TimeNs start_ns = 1'600'000'000LL * kNsPerSecond;  ///< stamp of frame 0
   int aa_samples = 4;          ///< samples per pixel at colour edges (1 = no anti-aliasing; max 16)
+  /// Adds copies of the shelf's two boxes and two books (same sizes and textures), without
+  /// the shelf, on the floor by the south wall in another arrangement (placed through
+  /// twinShelfTransform()): the same things laid out otherwise (loop-closure tests).
+  bool twin_shelf = false;
   DepthNoiseOptions noise;     ///< depth and colour noise
 };
 
@@ -181,6 +185,11 @@ FaceTexture makeFaceTexture(const Box& box, int face);
 /// Nearest hit of the ray origin + s * dir (s > 1e-9) against every box of `boxes`
 /// (RayHit::box indexes it); what Scene::castRay does with boxesAt(t).
 RayHit castRay(const std::vector<Box>& boxes, const Eigen::Vector3d& origin_w, const Eigen::Vector3d& dir_w);
+
+/// Where SceneOptions::twin_shelf puts the copies: world -> world, the north shelf's place
+/// onto the south wall (turned 180 degrees about z). A camera pose T_w_c before the shelf
+/// becomes twinShelfTransform() * T_w_c before the copies, at the same relative pose.
+SE3 twinShelfTransform();
 
 /// Builds a scene; throws ConfigError for bad options (frames < 1, size out of range...).
 Scene makeScene(SceneKind kind, const SceneOptions& options = {});

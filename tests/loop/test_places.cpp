@@ -1,6 +1,7 @@
 // Loop verification on rendered views of the synthetic room: the relative pose of two
-// views of one place, a pair with the same textures but another layout, and the semantic
-// veto inside the loop closer.
+// views of one place, a pair with the same textures but another layout (shuffled image
+// blocks, and the shelf's things copied into another arrangement in the scene), and the
+// semantic veto inside the loop closer.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -140,4 +141,62 @@ TEST(LoopPlaces, LoopCloserAcceptsTheRevisitAndVetoesItWhenTheInstancesDisagree)
       EXPECT_EQ(closer.stats().refused[static_cast<int>(LoopStatus::kRejectedBySemantics)], 1);
     }
   }
+}
+
+namespace {
+// The static room with copies of the shelf's boxes and books (same textures) on the floor
+// by the south wall (SceneOptions::twin_shelf).
+const synth::Scene& twinScene() {
+  static const synth::Scene s = [] {
+    synth::SceneOptions o;
+    o.twin_shelf = true;
+    return synth::makeScene(synth::SceneKind::kStatic, o);
+  }();
+  return s;
+}
+
+View renderTwin(const SE3& T_w_c, uint64_t noise) {
+  const synth::RenderedFrame f = synth::renderView(twinScene(), T_w_c, twinScene().frameTime(0), noise);
+  View v;
+  v.T_w_c = T_w_c;
+  v.frame.bgr = f.bgr;
+  v.frame.depth_m = f.depth_m;
+  v.features = extractFeatures(v.frame, cv::Mat(), twinScene().camera(), FeatureOptions{});
+  return v;
+}
+
+/// A camera 1.7 m in front of the north shelf, looking north and 15 degrees down at its
+/// lower boards (the boxes and books on them).
+SE3 beforeTheShelf() {
+  Eigen::Matrix3d R;
+  R.col(0) = Eigen::Vector3d(1, 0, 0);   // image x: east
+  R.col(1) = Eigen::Vector3d(0, 0, -1);  // image y: down
+  R.col(2) = Eigen::Vector3d(0, 1, 0);   // optical axis: north
+  const SE3 level(Eigen::Quaterniond(R), Eigen::Vector3d(-1.2, 0.6, 0.9));
+  return level * SE3(Eigen::Quaterniond(Eigen::AngleAxisd(-15 * M_PI / 180, Eigen::Vector3d::UnitX())), Eigen::Vector3d::Zero());
+}
+}  // namespace
+
+TEST(LoopPlaces, TheShelfsThingsInAnotherLayoutShareTexturesButAreNotAccepted) {
+  // The query sees the shelf's boxes and books where they stand; the candidate sees copies of
+  // them (the same textures) on the floor in another arrangement, from the same relative pose.
+  const SE3 T_w_a = beforeTheShelf();
+  const View a = renderTwin(T_w_a, 1);
+  const View again = renderTwin(T_w_a * kOffset, 2);                    // the same place
+  const View twin = renderTwin(synth::twinShelfTransform() * T_w_a, 3);  // the copies
+  const View elsewhere = renderTwin(
+      T_w_a * SE3(Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY())), Eigen::Vector3d::Zero()),
+      4);  // turned east: the table and the cabinet
+  const LoopOptions o;
+  LoopCandidate same, copies, other;
+  verifyGeometry(again.features, a.features, twinScene().camera(), o, &same);
+  verifyGeometry(twin.features, a.features, twinScene().camera(), o, &copies);
+  verifyGeometry(elsewhere.features, a.features, twinScene().camera(), o, &other);
+  std::printf("same place: %s (%s)\ncopies: %s (%s)\nelsewhere: %s (%s)\n", toString(same.status), same.reason.c_str(),
+              toString(copies.status), copies.reason.c_str(), toString(other.status), other.reason.c_str());
+  EXPECT_EQ(same.status, LoopStatus::kAccepted) << same.reason;
+  // The copies share the textures: many more descriptor matches than an unrelated view ...
+  EXPECT_GT(copies.matches, 2 * other.matches) << "the copies should match like the things they copy";
+  // ... but no rigid motion explains them together: each thing moved on its own.
+  EXPECT_EQ(copies.status, LoopStatus::kTooFewInliers) << copies.reason;
 }

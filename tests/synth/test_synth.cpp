@@ -471,3 +471,37 @@ TEST(SynthDataset, PreviewShowsThreeFramesSideBySide) {
   EXPECT_EQ(sheet.cols, 3 * 80);
   EXPECT_EQ(sheet.rows, 3 * 60);
 }
+
+TEST(SceneTest, TwinShelfAddsCopiesOfTheShelfsThingsWithTheirTexturesInAnotherLayout) {
+  const Scene plain = makeScene(SceneKind::kStatic);
+  SceneOptions o;
+  o.twin_shelf = true;
+  const Scene twin = makeScene(SceneKind::kStatic, o);
+  std::map<std::string, size_t> index;
+  for (size_t i = 0; i < twin.staticBoxes().size(); ++i) index[twin.staticBoxes()[i].name] = i;
+  for (const Box& b : plain.staticBoxes()) EXPECT_EQ(b.name.rfind("twin_", 0), std::string::npos) << "no copies by default";
+  ASSERT_EQ(twin.staticBoxes().size(), plain.staticBoxes().size() + 4);
+  const SE3 T = twinShelfTransform();
+  std::vector<Eigen::Vector3d> offsets;  // each copy's centre minus where its original maps to
+  for (size_t i = plain.staticBoxes().size(); i < twin.staticBoxes().size(); ++i) {
+    const Box& copy = twin.staticBoxes()[i];
+    ASSERT_EQ(copy.name.rfind("twin_shelf/", 0), 0u) << copy.name;
+    const size_t k = index.at(copy.name.substr(5));
+    const Box& original = twin.staticBoxes()[k];
+    EXPECT_EQ(copy.texture_seed, original.texture_seed) << copy.name;
+    EXPECT_EQ(copy.half_size, original.half_size) << copy.name;
+    EXPECT_EQ(copy.materials, original.materials) << copy.name;
+    // Every face has the original's texture (sampled on a grid).
+    for (int f = 0; f < 6; ++f)
+      for (double s = 0.01; s < 0.2; s += 0.037)
+        for (double t = 0.01; t < 0.2; t += 0.041) {
+          const Rgb a = twin.staticTexture(i, f).colour(s, t), b = twin.staticTexture(k, f).colour(s, t);
+          ASSERT_TRUE(a.r == b.r && a.g == b.g && a.b == b.b) << copy.name << " face " << f;
+        }
+    offsets.push_back(copy.T_w_b.translation() - T * original.T_w_b.translation());
+  }
+  // Another layout: one common offset would be the same arrangement moved.
+  double spread = 0;
+  for (const Eigen::Vector3d& d : offsets) spread = std::max(spread, (d - offsets.front()).norm());
+  EXPECT_GT(spread, 0.2);
+}

@@ -21,6 +21,7 @@ int runSynth(int argc, char** argv) {
       .option("out", "output folder (TUM layout: rgb/ depth/ masks/ rgb.txt depth.txt masks.txt groundtruth.txt ...)")
       .option("seed", "seed of the textures and the noise", "1")
       .flag("no-noise", "exact depth: no depth noise, no dropouts, no colour noise")
+      .flag("twin-shelf", "add copies of the shelf's boxes and books (same textures) on the floor by the south wall, in another layout")
       .option("width", "image width (the focal length scales with it)", "640")
       .option("height", "image height", "480")
       .option("depth-offset-ms", "depth stamps = colour stamps + this many milliseconds", "0")
@@ -47,6 +48,7 @@ int runSynth(int argc, char** argv) {
   opt.width = args.integer("width", 16, 8192);
   opt.height = args.integer("height", 16, 8192);
   opt.noise.enabled = !args.has("no-noise");
+  opt.twin_shelf = args.has("twin-shelf");
   const synth::Scene scene = synth::makeScene(kind, opt);
 
   if (args.has("out")) {
