@@ -259,7 +259,6 @@ std::optional<LoopCorrection> LoopCloser::processKeyframe(Id id) {
     }
     std::vector<std::pair<int, int>> inlier_pairs;
     verifyGeometry(features, other, camera_, options_, &c, &inlier_pairs, &query_points, &other_points);
-    if (c.status == LoopStatus::kAccepted) refineByProjection(features, query_points, &c);
     if (c.status == LoopStatus::kAccepted && options_.use_semantics && !instances.empty() && !other_instances.empty()) {
       const SemanticResult sem =
           matchInstances(instances, other_instances, diagonal, options_.semantic, c.T_query_candidate);
@@ -395,75 +394,6 @@ std::optional<LoopCorrection> LoopCloser::correct(const LoopCandidate& c,
                 correction.translation().norm(), " m correction), ", ids.size(), " keyframes, ", problem.edges.size(),
                 " edges, ", fused, " points fused, ", out.ms, " ms"));
   return out;
-}
-
-void LoopCloser::refineByProjection(const FrameFeatures& query, const std::vector<Eigen::Vector3d>& query_points,
-                                    LoopCandidate* c) const {
-  // The map points of the candidate and its covisible keyframes, in the candidate's camera frame.
-  std::vector<Eigen::Vector3d> p_c;
-  cv::Mat descriptors;
-  {
-    std::lock_guard<std::mutex> lock(map_->mutex());
-    const KeyFrame* kf = map_->keyframe(c->candidate);
-    if (!kf) return;
-    const SE3 T_c_w = kf->T_w_c.inverse();
-    std::set<Id> seen;
-    std::vector<Id> keyframes{c->candidate};
-    for (const auto& [other, shared] : map_->covisible(c->candidate, 1)) keyframes.push_back(other);
-    for (Id k : keyframes)
-      for (Id pid : map_->keyframe(k)->point_ids) {
-        const MapPoint* p = pid == kNoId ? nullptr : map_->point(pid);
-        if (!p || p->descriptor.empty() || !seen.insert(pid).second) continue;
-        p_c.push_back(T_c_w * p->p_w);
-        descriptors.push_back(p->descriptor);
-      }
-  }
-  if (p_c.empty() || query.points.empty()) return;
-  std::vector<Eigen::Vector2d> uv;
-  std::vector<int> octaves;
-  for (const Keypoint& kp : query.points) uv.push_back(kp.uv), octaves.push_back(kp.octave);
-  const PointGrid grid(uv, camera_.width, camera_.height);
-  std::vector<PointPrediction> predictions(p_c.size());
-  std::vector<int> landmark_of;
-  cv::Mat used;
-  std::vector<Eigen::Vector3d> visible;
-  for (size_t i = 0; i < p_c.size(); ++i) {
-    const Eigen::Vector3d q = c->T_query_candidate * p_c[i];
-    if (q.z() < 0.1) continue;
-    const Eigen::Vector2d px = camera_.projectIdeal(q);
-    if (px.x() < 0 || px.y() < 0 || px.x() >= camera_.width || px.y() >= camera_.height) continue;
-    predictions[visible.size()].uv = px;
-    visible.push_back(p_c[i]);
-    used.push_back(descriptors.row(static_cast<int>(i)));
-  }
-  predictions.resize(visible.size());
-  if (visible.size() < 3) return;
-  PointProjectionOptions po;
-  po.radius_px = options_.projection_radius_px;
-  po.octave_window = -1;
-  po.max_distance = options_.matching.max_distance;
-  const std::vector<DescriptorMatch> matches =
-      matchPointsByProjection(predictions, used, grid, octaves, query.point_descriptors, po);
-  std::vector<Eigen::Vector3d> pa, pb;
-  for (const DescriptorMatch& m : matches) {
-    const Keypoint& kp = query.points[m.train];
-    Eigen::Vector3d a;
-    if (m.train < static_cast<int>(query_points.size()) && query_points[m.train].allFinite()) a = query_points[m.train];
-    else if (std::isfinite(kp.depth_m) && kp.depth_m > 0 && kp.depth_m < options_.max_depth_m)
-      a = camera_.unprojectIdeal(kp.uv, kp.depth_m);
-    else continue;
-    pa.push_back(a);
-    pb.push_back(visible[m.query]);
-  }
-  RigidRansacOptions ro = options_.ransac;
-  ro.seed = options_.ransac.seed + 7;
-  const RigidRansacResult r = ransacRigid(pa, pb, ro);
-  kLog.debug(str("refine by projection: ", visible.size(), " landmarks in view, ", matches.size(), " matched, ", pa.size(),
-                 " with 3D, ", r.inlier_count, " inliers (verification: ", c->inliers, ")"));
-  if (!r.ok || r.inlier_count <= c->inliers) return;
-  c->reason += str("; refined by projection: ", r.inlier_count, " inliers of ", pa.size(), ", rmse ", r.rmse_m, " m");
-  c->inliers = r.inlier_count;
-  c->T_query_candidate = r.T_a_b;
 }
 
 void LoopCloser::globalBundleAdjustment(std::map<Id, SE3>* corrections) {

@@ -73,7 +73,6 @@ struct LoopOptions {
   BruteForceOptions matching{64, 0.8f, true};  ///< ORB matching for verification
   double max_depth_m = 6.0;          ///< keypoints farther than this are not used
   RigidRansacOptions ransac;         ///< 3D-3D RANSAC
-  double projection_radius_px = 8.0; ///< search radius when refining the pose by projecting map points
   int min_matches = 30;              ///< descriptor matches with depth needed
   int min_inliers = 25;              ///< RANSAC inliers needed
   double min_inlier_ratio = 0.3;     ///< inliers / matches needed
@@ -169,11 +168,6 @@ class LoopCloser {
  private:
   std::optional<LoopCorrection> correct(const LoopCandidate& c, const std::vector<std::pair<int, int>>& inlier_pairs);
   void record(const LoopCandidate& c);
-  /// After verification: the map points of the candidate's neighbourhood projected into the
-  /// query with the found pose, matched there, and the pose refitted on them (more, and
-  /// bundle-adjusted, correspondences than one keyframe pair gives).
-  void refineByProjection(const FrameFeatures& query, const std::vector<Eigen::Vector3d>& query_points,
-                          LoopCandidate* c) const;
   /// Global BA under the held map lock; updates `corrections` (T_new_old per keyframe).
   void globalBundleAdjustment(std::map<Id, SE3>* corrections);
 

@@ -1,7 +1,9 @@
 // Loop closure in the whole pipeline, on the synthetic loop scene (one lap round the room,
-// the last pose equal to the first) at 320 x 240, where tracking drifts enough for the
-// correction to matter: the loop is found at the revisit, its relative pose is right, and
-// the trajectory error drops well below the run without loop closure.
+// the last pose equal to the first): the loop is found at the revisit, its relative pose is
+// right, and the trajectory error drops well below the run without loop closure. At
+// 320 x 240 (300 frames) tracking drifts enough for the correction to matter most; at the
+// full 640 x 480 (450 frames, the bench's scene) the verified relative pose is held to
+// 2 cm and 1 degree.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -20,23 +22,25 @@ struct Sequence {
   std::vector<synth::RenderedFrame> frames;
 };
 
-const Sequence& loopSequence() {
-  static const Sequence seq = [] {
-    synth::SceneOptions o;
-    o.width = 320;
-    o.height = 240;
-    o.frames = 300;
-    Sequence s{synth::makeScene(synth::SceneKind::kLoop, o), {}};
-    s.frames.resize(o.frames);
-    std::vector<std::thread> workers;
-    for (int t = 0; t < 2; ++t)
-      workers.emplace_back([&s, t, n = o.frames] {
-        for (int i = t; i < n; i += 2) s.frames[i] = synth::render(s.scene, i);
-      });
-    for (auto& w : workers) w.join();
-    return s;
-  }();
-  return seq;
+struct LapSize {
+  int width, height, frames;
+};
+constexpr LapSize kSmallLap{320, 240, 300}, kFullLap{640, 480, 450};
+
+Sequence renderLap(const LapSize& size) {
+  synth::SceneOptions o;
+  o.width = size.width;
+  o.height = size.height;
+  o.frames = size.frames;
+  Sequence s{synth::makeScene(synth::SceneKind::kLoop, o), {}};
+  s.frames.resize(o.frames);
+  std::vector<std::thread> workers;
+  for (int t = 0; t < 2; ++t)
+    workers.emplace_back([&s, t, n = o.frames] {
+      for (int i = t; i < n; i += 2) s.frames[i] = synth::render(s.scene, i);
+    });
+  for (auto& w : workers) w.join();
+  return s;
 }
 
 struct RunOutcome {
@@ -48,8 +52,7 @@ struct RunOutcome {
   double ate = 0;
 };
 
-RunOutcome run(bool use_loop) {
-  const Sequence& seq = loopSequence();
+RunOutcome run(const Sequence& seq, bool use_loop) {
   SystemOptions o;
   o.sequential = true;
   o.use_loop = use_loop;
@@ -67,17 +70,20 @@ RunOutcome run(bool use_loop) {
   return r;
 }
 
-SE3 truthAt(TimeNs t) { return loopSequence().scene.cameraPoseAt(t); }
+struct Tolerances {
+  double verified_m, verified_deg;  ///< the verified relative pose of an accepted loop
+  double ate_ratio;                 ///< ATE with loop closure / ATE without, below this
+};
 
-}  // namespace
-
-TEST(LoopSystem, LapIsClosedAtTheRevisitWithAnAccurateRelativePoseAndAteDrops) {
-  const RunOutcome with = run(true), without = run(false);
+void expectLapClosed(const LapSize& size, const Tolerances& tol) {
+  const Sequence seq = renderLap(size);
+  auto truthAt = [&](TimeNs t) { return seq.scene.cameraPoseAt(t); };
+  const RunOutcome with = run(seq, true), without = run(seq, false);
   EXPECT_FALSE(without.stats.use_loop);
   EXPECT_EQ(without.stats.loop.candidates, 0);
   ASSERT_TRUE(with.stats.use_loop);
   ASSERT_GE(with.stats.loop.accepted, 1) << "the lap's end should be recognised";
-  const TimeNs t0 = loopSequence().frames.front().t_ns, t1 = loopSequence().frames.back().t_ns;
+  const TimeNs t0 = seq.frames.front().t_ns, t1 = seq.frames.back().t_ns;
   const std::map<Id, TimeNs>& kf_time = with.keyframe_time;
   int correct = 0, wrong = 0;
   for (const LoopCandidate& c : with.log) {
@@ -85,7 +91,7 @@ TEST(LoopSystem, LapIsClosedAtTheRevisitWithAnAccurateRelativePoseAndAteDrops) {
     const TimeNs tq = kf_time.at(c.query), tc = kf_time.at(c.candidate);
     const SE3 truth = truthAt(tq).inverse() * truthAt(tc);
     // The verified relative pose: a place recognised at the right spot (a false loop would be
-    // off by metres), here from 320 x 240 features (the 640 x 480 pair test holds it to 2 cm).
+    // off by metres).
     const SE3 verified = truth.inverse() * c.T_query_candidate;
     const double vt = verified.translation().norm();
     const double vr = verified.quaternion().angularDistance(Eigen::Quaterniond::Identity()) * 180 / M_PI;
@@ -93,7 +99,7 @@ TEST(LoopSystem, LapIsClosedAtTheRevisitWithAnAccurateRelativePoseAndAteDrops) {
     const SE3 corrected = truth.inverse() * (with.keyframe_pose.at(c.query).inverse() * with.keyframe_pose.at(c.candidate));
     const double dt = corrected.translation().norm();
     const double dr = corrected.quaternion().angularDistance(Eigen::Quaterniond::Identity()) * 180 / M_PI;
-    const bool ok = vt < 0.05 && vr < 2.0 && dt < 0.02 && dr < 1.0;
+    const bool ok = vt < tol.verified_m && vr < tol.verified_deg && dt < 0.02 && dr < 1.0;
     (ok ? correct : wrong) += 1;
     EXPECT_TRUE(ok) << "loop " << c.query << "-" << c.candidate << ": verified relative pose off by " << vt << " m, "
                     << vr << " deg; after correction " << dt << " m, " << dr << " deg";
@@ -105,7 +111,20 @@ TEST(LoopSystem, LapIsClosedAtTheRevisitWithAnAccurateRelativePoseAndAteDrops) {
   }
   EXPECT_GE(correct, 1);
   EXPECT_EQ(wrong, 0);
-  EXPECT_LT(with.ate, 0.6 * without.ate) << "ATE with loop closure " << with.ate << " m, without " << without.ate << " m";
-  std::printf("loops accepted %d (correct %d, wrong %d); ATE with %.4f m, without %.4f m\n", with.stats.loop.accepted,
-              correct, wrong, with.ate, without.ate);
+  EXPECT_LT(with.ate, tol.ate_ratio * without.ate) << "ATE with loop closure " << with.ate << " m, without " << without.ate
+                                                  << " m";
+  std::printf("%dx%d: loops accepted %d (correct %d, wrong %d); ATE with %.4f m, without %.4f m\n", size.width,
+              size.height, with.stats.loop.accepted, correct, wrong, with.ate, without.ate);
+}
+
+}  // namespace
+
+TEST(LoopSystem, SmallLapIsClosedAtTheRevisitAndAteDropsToHalf) {
+  // 320 x 240 features: the verified pose is coarser (measured 2.9 cm, 0.7 degrees); the
+  // correction and the global BA bring the two keyframes within 2 cm and 1 degree.
+  expectLapClosed(kSmallLap, {0.05, 2.0, 0.5});
+}
+
+TEST(LoopSystem, FullSizeLapIsVerifiedWithinTwoCentimetresAndOneDegree) {
+  expectLapClosed(kFullLap, {0.02, 1.0, 0.7});
 }
