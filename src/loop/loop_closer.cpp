@@ -126,6 +126,20 @@ void LoopCloser::record(const LoopCandidate& c) {
                  ", normalised ", c.normalised, "; ", c.reason, ")"));
 }
 
+int LoopCloser::indexMapKeyframes() {
+  std::vector<std::pair<Id, FrameFeatures>> pending;
+  {
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    for (const auto& [id, kf] : map_->keyframes())  // std::map: in id order
+      if (!database_.contains(id)) pending.emplace_back(id, kf.features);
+  }
+  for (const auto& [id, features] : pending) {  // the bags outside the lock
+    database_.add(id, describeBow(*vocabulary_, features));
+    order_.push_back(id);
+  }
+  return static_cast<int>(pending.size());
+}
+
 std::optional<LoopCorrection> LoopCloser::processKeyframe(Id id) {
   ++stats_.queries;
   ++keyframes_since_loop_;
@@ -182,8 +196,8 @@ std::optional<LoopCorrection> LoopCloser::processKeyframe(Id id) {
     c.normalised = reference > 0 ? c.score / reference : 0.0;
     candidates.push_back(c);
   }
+  if (!database_.contains(id)) order_.push_back(id);
   database_.add(id, bow);
-  order_.push_back(id);
 
   const double diagonal = std::hypot(camera_.width, camera_.height);
   if (options_.use_semantics && !instances.empty()) {

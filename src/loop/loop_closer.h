@@ -152,6 +152,13 @@ class LoopCloser {
   /// Adds keyframe `id` and looks for a loop; returns the correction when one was closed.
   std::optional<LoopCorrection> processKeyframe(Id id);
 
+  /// Adds every keyframe already in the map and not yet indexed (a loaded map) to the
+  /// database, in id order, without looking for loops among them: places of an earlier
+  /// session can then be recognised. Returns how many were added.
+  int indexMapKeyframes();
+  /// Keyframes in the database (read it while no keyframe is being processed).
+  size_t indexedKeyframes() const { return database_.size(); }
+
   /// A correction is applied holding `guard` (locked before the map's mutex; may be null),
   /// and `hook` is called with it before the guard is released: the system re-anchors the
   /// tracker there, so no frame is tracked between the map's move and the tracker's.

@@ -75,6 +75,8 @@ System::System(PinholeCamera camera, SystemOptions options, Map map)
     Pipeline* p = pipeline_.get();
     p->loop = std::make_unique<LoopCloser>(&map_, camera_, options_.loop);
     p->loop->setCorrectionHook(&p->tracking_mutex, [p](const LoopCorrection& c) { p->tracker.applyMapCorrection(c.T_new_old); });
+    // A loaded map's places can be recognised when this session comes back to them.
+    if (const int n = p->loop->indexMapKeyframes()) kLog.info(str("loop: ", n, " keyframes of the loaded map indexed"));
   }
 }
 

@@ -200,3 +200,37 @@ TEST(LoopPlaces, TheShelfsThingsInAnotherLayoutShareTexturesButAreNotAccepted) {
   // ... but no rigid motion explains them together: each thing moved on its own.
   EXPECT_EQ(copies.status, LoopStatus::kTooFewInliers) << copies.reason;
 }
+
+TEST(LoopPlaces, KeyframesOfALoadedMapAreRecognisedOnceIndexed) {
+  // A keyframe of an earlier session (in the map before the loop closer starts) and a new
+  // one at the same place: found only when the loaded keyframes were indexed.
+  const SE3 T_w_a = scene().cameraPose(0);
+  const View a = render(T_w_a, 1), b = render(T_w_a * kOffset, 2);
+  LoopOptions o;
+  o.exclude_recent = 0;
+  o.consistency = 1;
+  for (const bool indexed : {false, true}) {
+    Map map;
+    KeyFrame loaded, fresh;
+    loaded.T_w_c = a.T_w_c, loaded.features = a.features;
+    fresh.T_w_c = b.T_w_c, fresh.features = b.features;
+    const Id ia = map.addKeyFrame(loaded);
+    LoopCloser closer(&map, scene().camera(), o, vocabulary());
+    if (indexed) {
+      EXPECT_EQ(closer.indexMapKeyframes(), 1);
+      EXPECT_EQ(closer.indexMapKeyframes(), 0) << "indexed once";
+    }
+    const Id ib = map.addKeyFrame(fresh);
+    const auto correction = closer.processKeyframe(ib);
+    bool proposed = false;
+    for (const LoopCandidate& c : closer.log()) proposed = proposed || c.candidate == ia;
+    if (indexed) {
+      ASSERT_TRUE(correction.has_value()) << (closer.log().empty() ? "no candidate" : closer.log().back().reason);
+      EXPECT_EQ(closer.log().back().candidate, ia);
+      EXPECT_EQ(closer.log().back().status, LoopStatus::kAccepted);
+    } else {
+      EXPECT_FALSE(proposed) << "the loaded keyframe is unknown to the database";
+      EXPECT_FALSE(correction.has_value());
+    }
+  }
+}

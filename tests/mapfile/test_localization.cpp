@@ -101,3 +101,17 @@ TEST(Localization, WithoutLocalizeOnlyALoadedMapIsExtended) {
   EXPECT_GT(r.stats.keyframes, static_cast<int>(b.map->keyframes().size())) << "mapping goes on in the loaded map";
   EXPECT_FALSE(r.map_after == before);
 }
+
+TEST(Localization, MappingOnALoadedMapIndexesItsKeyframesForLoopClosure) {
+  // Mapping (not localisation-only) on a loaded map: a later pass can close loops with the
+  // places of the first one, so they are in the loop closer's database from the start.
+  const test::BuiltMap& b = test::builtMap();
+  LoadedMap l = parseMap(serializeMap(*b.map, b.camera, b.config_yaml), "synthetic map");
+  const size_t keyframes = l.map.keyframes().size();
+  ASSERT_GT(keyframes, 1u);
+  SystemOptions o;
+  o.sequential = true;
+  System slam(l.camera, o, std::move(l.map));
+  ASSERT_NE(slam.loopCloser(), nullptr);
+  EXPECT_EQ(slam.loopCloser()->indexedKeyframes(), keyframes);
+}
