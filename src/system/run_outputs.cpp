@@ -19,6 +19,7 @@ Summary summarize(std::vector<double> v) {
   s.median = v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
   s.mean = std::accumulate(v.begin(), v.end(), 0.0) / v.size();
   s.p95 = v[std::min(v.size() - 1, static_cast<size_t>(std::ceil(0.95 * v.size())) - 1)];
+  s.max = v.back();
   return s;
 }
 
@@ -27,7 +28,8 @@ std::string summaryJson(const std::vector<double>& v) {
   const Summary s = summarize(v);
   std::ostringstream os;
   os.precision(6);
-  os << "{\"median\": " << s.median << ", \"mean\": " << s.mean << ", \"p95\": " << s.p95 << "}";
+  os << "{\"median\": " << s.median << ", \"mean\": " << s.mean << ", \"p95\": " << s.p95 << ", \"max\": " << s.max
+     << "}";
   return os.str();
 }
 }  // namespace

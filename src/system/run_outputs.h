@@ -27,9 +27,10 @@ std::string sparseMapToPly(const Map& map);
 void writeRunOutputs(const std::string& dir, const System& system, const std::string& config_yaml,
                      const std::string& stats_extra = "", const std::string& map_path = "");
 
-/// Median / mean / 95th percentile of `v` (0 when empty).
+/// Median / mean / 95th percentile / maximum of `v` (0 when empty). The maximum is the
+/// worst latency, where a frame waited for a loop correction.
 struct Summary {
-  double median = 0, mean = 0, p95 = 0;
+  double median = 0, mean = 0, p95 = 0, max = 0;
 };
 Summary summarize(std::vector<double> v);
 

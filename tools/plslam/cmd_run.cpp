@@ -159,8 +159,8 @@ int runRun(int argc, char** argv) {
   const Summary tms = summarize(st.tracking_ms);
   std::printf("frames %d, tracked %d (%.1f%%), keyframes %d, lost %d, map %d points %d lines\n", st.frames, st.tracked,
               st.frames ? 100.0 * st.tracked / st.frames : 0.0, st.keyframes, st.lost_events, st.map_points, st.map_lines);
-  std::printf("tracking %.1f ms/frame median, %.1f p95; line reconstruction rate: fitting %.3f, endpoints %.3f\n",
-              tms.median, tms.p95, st.line_rate_fitting, st.line_rate_endpoints);
+  std::printf("tracking %.1f ms/frame median, %.1f p95, %.1f max; line reconstruction rate: fitting %.3f, endpoints %.3f\n",
+              tms.median, tms.p95, tms.max, st.line_rate_fitting, st.line_rate_endpoints);
   if (!skipped.empty()) std::printf("skipped %d of %zu frames: %s\n", dataset.skippedTotal(), dataset.size(), skipped.c_str());
   if (!ate_line.empty()) std::printf("%s\n", ate_line.c_str());
   std::printf("outputs: %s\n", out.c_str());
