@@ -26,18 +26,29 @@ const synth::Scene& scene() {
   return s;
 }
 
-View describe(const SE3& T_w_c, const cv::Mat& bgr, const cv::Mat& depth) {
+// The static room with copies of the shelf's boxes and books (same textures) on the floor
+// by the south wall (SceneOptions::twin_shelf).
+const synth::Scene& twinScene() {
+  static const synth::Scene s = [] {
+    synth::SceneOptions o;
+    o.twin_shelf = true;
+    return synth::makeScene(synth::SceneKind::kStatic, o);
+  }();
+  return s;
+}
+
+View describe(const SE3& T_w_c, const cv::Mat& bgr, const cv::Mat& depth, const synth::Scene& in = scene()) {
   View v;
   v.T_w_c = T_w_c;
   v.frame.bgr = bgr;
   v.frame.depth_m = depth;
-  v.features = extractFeatures(v.frame, cv::Mat(), scene().camera(), FeatureOptions{});
+  v.features = extractFeatures(v.frame, cv::Mat(), in.camera(), FeatureOptions{});
   return v;
 }
 
-View render(const SE3& T_w_c, uint64_t noise) {
-  const synth::RenderedFrame f = synth::renderView(scene(), T_w_c, scene().frameTime(0), noise);
-  return describe(T_w_c, f.bgr, f.depth_m);
+View render(const SE3& T_w_c, uint64_t noise, const synth::Scene& in = scene()) {
+  const synth::RenderedFrame f = synth::renderView(in, T_w_c, in.frameTime(0), noise);
+  return describe(T_w_c, f.bgr, f.depth_m, in);
 }
 
 const SE3 kOffset(Eigen::Quaterniond(Eigen::AngleAxisd(5 * M_PI / 180, Eigen::Vector3d(0.2, 1, 0.1).normalized())),
@@ -144,27 +155,6 @@ TEST(LoopPlaces, LoopCloserAcceptsTheRevisitAndVetoesItWhenTheInstancesDisagree)
 }
 
 namespace {
-// The static room with copies of the shelf's boxes and books (same textures) on the floor
-// by the south wall (SceneOptions::twin_shelf).
-const synth::Scene& twinScene() {
-  static const synth::Scene s = [] {
-    synth::SceneOptions o;
-    o.twin_shelf = true;
-    return synth::makeScene(synth::SceneKind::kStatic, o);
-  }();
-  return s;
-}
-
-View renderTwin(const SE3& T_w_c, uint64_t noise) {
-  const synth::RenderedFrame f = synth::renderView(twinScene(), T_w_c, twinScene().frameTime(0), noise);
-  View v;
-  v.T_w_c = T_w_c;
-  v.frame.bgr = f.bgr;
-  v.frame.depth_m = f.depth_m;
-  v.features = extractFeatures(v.frame, cv::Mat(), twinScene().camera(), FeatureOptions{});
-  return v;
-}
-
 /// A camera 1.7 m in front of the north shelf, looking north and 15 degrees down at its
 /// lower boards (the boxes and books on them).
 SE3 beforeTheShelf() {
@@ -181,12 +171,11 @@ TEST(LoopPlaces, TheShelfsThingsInAnotherLayoutShareTexturesButAreNotAccepted) {
   // The query sees the shelf's boxes and books where they stand; the candidate sees copies of
   // them (the same textures) on the floor in another arrangement, from the same relative pose.
   const SE3 T_w_a = beforeTheShelf();
-  const View a = renderTwin(T_w_a, 1);
-  const View again = renderTwin(T_w_a * kOffset, 2);                    // the same place
-  const View twin = renderTwin(synth::twinShelfTransform() * T_w_a, 3);  // the copies
-  const View elsewhere = renderTwin(
-      T_w_a * SE3(Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY())), Eigen::Vector3d::Zero()),
-      4);  // turned east: the table and the cabinet
+  const View a = render(T_w_a, 1, twinScene());
+  const View again = render(T_w_a * kOffset, 2, twinScene());                    // the same place
+  const View twin = render(synth::twinShelfTransform() * T_w_a, 3, twinScene());  // the copies
+  const SE3 turned_east(Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY())), Eigen::Vector3d::Zero());
+  const View elsewhere = render(T_w_a * turned_east, 4, twinScene());  // the table and the cabinet
   const LoopOptions o;
   LoopCandidate same, copies, other;
   verifyGeometry(again.features, a.features, twinScene().camera(), o, &same);
