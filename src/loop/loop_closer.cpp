@@ -133,11 +133,13 @@ int LoopCloser::indexMapKeyframes() {
     for (const auto& [id, kf] : map_->keyframes())  // std::map: in id order
       if (!database_.contains(id)) pending.emplace_back(id, kf.features);
   }
-  for (const auto& [id, features] : pending) {  // the bags outside the lock
-    database_.add(id, describeBow(*vocabulary_, features));
-    order_.push_back(id);
-  }
+  for (const auto& [id, features] : pending) index(id, describeBow(*vocabulary_, features));  // outside the lock
   return static_cast<int>(pending.size());
+}
+
+void LoopCloser::index(Id id, const KeyframeBow& bow) {
+  if (!database_.contains(id)) order_.push_back(id);
+  database_.add(id, bow);
 }
 
 std::optional<LoopCorrection> LoopCloser::processKeyframe(Id id) {
@@ -196,8 +198,7 @@ std::optional<LoopCorrection> LoopCloser::processKeyframe(Id id) {
     c.normalised = reference > 0 ? c.score / reference : 0.0;
     candidates.push_back(c);
   }
-  if (!database_.contains(id)) order_.push_back(id);
-  database_.add(id, bow);
+  index(id, bow);
 
   const double diagonal = std::hypot(camera_.width, camera_.height);
   if (options_.use_semantics && !instances.empty()) {

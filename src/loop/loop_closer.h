@@ -175,6 +175,8 @@ class LoopCloser {
  private:
   std::optional<LoopCorrection> correct(const LoopCandidate& c, const std::vector<std::pair<int, int>>& inlier_pairs);
   void record(const LoopCandidate& c);
+  /// Adds (or replaces) a keyframe's bags in the database, keeping order_ free of repeats.
+  void index(Id id, const KeyframeBow& bow);
   /// Global BA under the held map lock; updates `corrections` (T_new_old per keyframe).
   void globalBundleAdjustment(std::map<Id, SE3>* corrections);
 

@@ -23,7 +23,7 @@ struct System::Pipeline {
   /// What the mapping thread gets of a new keyframe's frame.
   struct KeyframeJob {
     Id keyframe;
-    // The job owns its pixels (deep copies): the mapping thread must not share buffers
+    // A queued job owns its pixels (deep copies): the mapping thread must not share buffers
     // with the caller, who may reuse them (see deepCopy in core/frame.h).
     cv::Mat depth_m;
     cv::Mat bgr;
@@ -128,10 +128,12 @@ TrackingResult System::feed(const RgbdFrame& frame, const cv::Mat& mask) {
   records_.push_back(rec);
   tracking.unlock();
   if (r.new_keyframe) {
-    Pipeline::KeyframeJob job{r.keyframe_id, frame.depth_m.clone(), frame.bgr.clone(), dyn.mask.clone(),
-                              classImage(dyn.segmentation)};
-    if (options_.sequential) pipeline_->processKeyframe(job);
-    else pipeline_->queue.push(std::move(job));
+    // The class image is only read for the dense cloud; it is a new image, owned by the job.
+    cv::Mat classes = pipeline_->dense.enabled ? classImage(dyn.segmentation) : cv::Mat();
+    if (options_.sequential)
+      pipeline_->processKeyframe({r.keyframe_id, frame.depth_m, frame.bgr, dyn.mask, std::move(classes)});
+    else  // the mapping thread gets its own pixels (see KeyframeJob)
+      pipeline_->queue.push({r.keyframe_id, frame.depth_m.clone(), frame.bgr.clone(), dyn.mask.clone(), std::move(classes)});
   }
   return r;
 }

@@ -115,6 +115,10 @@ TEST(EvalCli, BadOptionValuesAreRefused) {
   const CliRun missing = run("--gt a.txt 2>&1");
   EXPECT_EQ(missing.status, 2) << missing.out;
   EXPECT_NE(missing.out.find("--est"), std::string::npos) << missing.out;
+  // eval loops refuses a tolerance it could not meet before reading any frame.
+  const CliRun tolerance = run("loops --dataset /nonexistent --out /tmp/x --pose-tolerance-m -1 2>&1");
+  EXPECT_EQ(tolerance.status, 2) << tolerance.out;
+  EXPECT_NE(tolerance.out.find("--pose-tolerance-m"), std::string::npos) << tolerance.out;
 }
 
 TEST(EvalCli, LoopsOnTheSyntheticLapFindTheRevisitWithPrecisionOneAtTheOperatingThreshold) {

@@ -51,6 +51,20 @@ View render(const SE3& T_w_c, uint64_t noise, const synth::Scene& in = scene()) 
   return describe(T_w_c, f.bgr, f.depth_m, in);
 }
 
+/// Options under which one revisit is enough: no recent keyframes excluded, no consistency.
+LoopOptions singleRevisitOptions() {
+  LoopOptions o;
+  o.exclude_recent = 0;
+  o.consistency = 1;
+  return o;
+}
+
+KeyFrame keyframeOf(const View& v) {
+  KeyFrame kf;
+  kf.T_w_c = v.T_w_c, kf.features = v.features;
+  return kf;
+}
+
 const SE3 kOffset(Eigen::Quaterniond(Eigen::AngleAxisd(5 * M_PI / 180, Eigen::Vector3d(0.2, 1, 0.1).normalized())),
                   Eigen::Vector3d(0.10, -0.03, 0.06));
 
@@ -121,15 +135,13 @@ TEST(LoopPlaces, LoopCloserAcceptsTheRevisitAndVetoesItWhenTheInstancesDisagree)
   other[1].box = {20, 300, 120, 80}, other[1].centroid_c = {-1.5, 0.5, 1.0};
   other[2].box = {100, 20, 100, 300}, other[2].centroid_c = {-1.0, -0.8, 3.8};
 
-  LoopOptions o;
-  o.exclude_recent = 0;
-  o.consistency = 1;
+  const LoopOptions o = singleRevisitOptions();
   for (const bool agree : {true, false}) {
     Map map;
-    KeyFrame ka, kb;
-    ka.T_w_c = a.T_w_c, ka.features = a.features, ka.instances = layout;
+    KeyFrame ka = keyframeOf(a), kb = keyframeOf(b);
+    ka.instances = layout;
     kb.T_w_c = b.T_w_c * SE3(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.05, 0, 0));  // drifted
-    kb.features = b.features, kb.instances = agree ? layout : other;
+    kb.instances = agree ? layout : other;
     const Id ia = map.addKeyFrame(ka);
     const Id ib = map.addKeyFrame(kb);
     LoopCloser closer(&map, scene().camera(), o, vocabulary());
@@ -195,21 +207,15 @@ TEST(LoopPlaces, KeyframesOfALoadedMapAreRecognisedOnceIndexed) {
   // one at the same place: found only when the loaded keyframes were indexed.
   const SE3 T_w_a = scene().cameraPose(0);
   const View a = render(T_w_a, 1), b = render(T_w_a * kOffset, 2);
-  LoopOptions o;
-  o.exclude_recent = 0;
-  o.consistency = 1;
   for (const bool indexed : {false, true}) {
     Map map;
-    KeyFrame loaded, fresh;
-    loaded.T_w_c = a.T_w_c, loaded.features = a.features;
-    fresh.T_w_c = b.T_w_c, fresh.features = b.features;
-    const Id ia = map.addKeyFrame(loaded);
-    LoopCloser closer(&map, scene().camera(), o, vocabulary());
+    const Id ia = map.addKeyFrame(keyframeOf(a));  // loaded
+    LoopCloser closer(&map, scene().camera(), singleRevisitOptions(), vocabulary());
     if (indexed) {
       EXPECT_EQ(closer.indexMapKeyframes(), 1);
       EXPECT_EQ(closer.indexMapKeyframes(), 0) << "indexed once";
     }
-    const Id ib = map.addKeyFrame(fresh);
+    const Id ib = map.addKeyFrame(keyframeOf(b));  // this session's
     const auto correction = closer.processKeyframe(ib);
     bool proposed = false;
     for (const LoopCandidate& c : closer.log()) proposed = proposed || c.candidate == ia;

@@ -130,6 +130,11 @@ int runEvalLoops(int argc, char** argv) {
       .epilog("example: plslam eval loops --dataset /tmp/loop --out /tmp/loop_pr");
   if (!args.parse(argc, argv)) return 0;
   const double distance = args.number("distance"), angle_deg = args.number("angle"), gap_s = args.number("min-gap");
+  const double pose_tol_m = args.number("pose-tolerance-m"), pose_tol_deg = args.number("pose-tolerance-deg");
+  // Checked before the long pass over the frames.
+  for (const auto& [name, value] : {std::pair<const char*, double>{"distance", distance}, {"angle", angle_deg},
+                                    {"pose-tolerance-m", pose_tol_m}, {"pose-tolerance-deg", pose_tol_deg}})
+    if (!(value > 0)) throw ConfigError(str("plslam eval loops: --", name, " must be positive, got ", value));
   const int every = args.integer("every", 1, 10000);
   const std::string dir = args.str("dataset"), out = args.str("out");
   const PinholeCamera camera = loadCameraFile(args.has("calib") ? args.str("calib") : dir + "/camera.xml");
@@ -193,7 +198,7 @@ int runEvalLoops(int argc, char** argv) {
     int accepted = 0, right_pose = 0, same_place = 0;
     double worst_right_t_m = 0;
   } verified;
-  const double pose_tol_m = args.number("pose-tolerance-m"), pose_tol_rad = args.number("pose-tolerance-deg") * M_PI / 180;
+  const double pose_tol_rad = pose_tol_deg * M_PI / 180;
   int queries_with_truth = 0, verifications = 0;
   for (size_t i = 0; i < frames.size(); ++i) {
     const FrameInfo& q = frames[i];
