@@ -5,6 +5,7 @@
 #include <limits>
 #include <cmath>
 #include <set>
+#include <tuple>
 
 #include "core/error.h"
 #include "core/log.h"
@@ -50,10 +51,45 @@ KeyframeBow describeBow(const VocabularySet& vocabulary, const FrameFeatures& f)
   return b;
 }
 
+namespace {
+bool knownSegment(const FeatureGeometry* g, int i) {
+  return g && i < static_cast<int>(g->lines.size()) && g->lines[i].first.allFinite() && g->lines[i].second.allFinite() &&
+         (g->lines[i].first - g->lines[i].second).norm() > 1e-6;
+}
+
+/// Segment pairs that agree with T_query_candidate: per query line with a 3D segment, the
+/// candidate line within the RANSAC gate with the closest LBD descriptor (at most
+/// line_max_distance); each candidate line is used once.
+std::vector<SegmentPair3D> associateLines(const FrameFeatures& q, const FrameFeatures& k, const FeatureGeometry* qg,
+                                          const FeatureGeometry* kg, const SE3& T, const LoopOptions& o) {
+  std::vector<SegmentPair3D> out;
+  if (!qg || !kg || q.line_descriptors.empty() || k.line_descriptors.empty()) return out;
+  std::vector<std::tuple<int, int, int>> pairs;  // distance, query, candidate
+  for (int i = 0; i < q.line_descriptors.rows; ++i) {
+    if (!knownSegment(qg, i) || qg->lines[i].first.z() > o.max_depth_m || qg->lines[i].second.z() > o.max_depth_m) continue;
+    for (int j = 0; j < k.line_descriptors.rows; ++j) {
+      if (!knownSegment(kg, j)) continue;
+      const SegmentPair3D s{qg->lines[i].first, qg->lines[i].second, kg->lines[j].first, kg->lines[j].second};
+      if (!segmentsAgree(s, T, o.ransac)) continue;
+      const int d = hammingDistance(q.line_descriptors.ptr<uint8_t>(i), k.line_descriptors.ptr<uint8_t>(j));
+      if (d <= o.line_max_distance) pairs.emplace_back(d, i, j);
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  std::set<int> used_q, used_k;
+  for (const auto& [d, i, j] : pairs) {
+    if (used_q.count(i) || used_k.count(j)) continue;
+    used_q.insert(i);
+    used_k.insert(j);
+    out.push_back({qg->lines[i].first, qg->lines[i].second, kg->lines[j].first, kg->lines[j].second});
+  }
+  return out;
+}
+}  // namespace
+
 void verifyGeometry(const FrameFeatures& q, const FrameFeatures& k, const PinholeCamera& camera, const LoopOptions& o,
-                    LoopCandidate* c, std::vector<std::pair<int, int>>* inlier_pairs,
-                    const std::vector<Eigen::Vector3d>* query_points_c,
-                    const std::vector<Eigen::Vector3d>* candidate_points_c) {
+                    LoopCandidate* c, std::vector<std::pair<int, int>>* inlier_pairs, const FeatureGeometry* query_c,
+                    const FeatureGeometry* candidate_c) {
   if (inlier_pairs) inlier_pairs->clear();
   auto usable = [&](const Keypoint& kp) { return std::isfinite(kp.depth_m) && kp.depth_m > 0 && kp.depth_m < o.max_depth_m; };
   std::vector<DescriptorMatch> matches;
@@ -65,12 +101,12 @@ void verifyGeometry(const FrameFeatures& q, const FrameFeatures& k, const Pinhol
     const Keypoint& a = q.points[m.query];
     const Keypoint& b = k.points[m.train];
     if (!usable(a) || !usable(b)) continue;
-    auto position = [&](const Keypoint& kp, int i, const std::vector<Eigen::Vector3d>* known) {
-      if (known && i < static_cast<int>(known->size()) && (*known)[i].allFinite()) return (*known)[i];
+    auto position = [&](const Keypoint& kp, int i, const FeatureGeometry* known) {
+      if (known && i < static_cast<int>(known->points.size()) && known->points[i].allFinite()) return known->points[i];
       return camera.unprojectIdeal(kp.uv, kp.depth_m);
     };
-    pq.push_back(position(a, m.query, query_points_c));
-    pk.push_back(position(b, m.train, candidate_points_c));
+    pq.push_back(position(a, m.query, query_c));
+    pk.push_back(position(b, m.train, candidate_c));
     pairs.emplace_back(m.query, m.train);
   }
   c->matches = static_cast<int>(pairs.size());
@@ -81,7 +117,16 @@ void verifyGeometry(const FrameFeatures& q, const FrameFeatures& k, const Pinhol
   }
   RigidRansacOptions ro = o.ransac;
   ro.seed = o.ransac.seed ^ (static_cast<uint64_t>(c->query) * 1000003ULL + static_cast<uint64_t>(c->candidate));
-  const RigidRansacResult r = ransacRigid(pq, pk, ro);
+  RigidRansacResult r = ransacRigid(pq, pk, ro);
+  // Lines join once the points have a pose: LBD alone matches few lines across a loop (the
+  // viewpoint changes their descriptors), so each line of the query is paired with the
+  // candidate line that agrees with the pose and has the closest descriptor, and the pose
+  // is fitted again on points and lines together.
+  std::vector<SegmentPair3D> lines;
+  if (r.ok) lines = associateLines(q, k, query_c, candidate_c, r.T_a_b, o);
+  if (!lines.empty()) r = ransacRigid(pq, pk, lines, ro);
+  c->line_matches = static_cast<int>(lines.size());
+  c->line_inliers = r.line_inlier_count;
   c->inliers = r.inlier_count;
   if (!r.ok || r.inlier_count < o.min_inliers || r.inlier_count < o.min_inlier_ratio * c->matches) {
     c->status = LoopStatus::kTooFewInliers;
@@ -91,20 +136,26 @@ void verifyGeometry(const FrameFeatures& q, const FrameFeatures& k, const Pinhol
   }
   c->T_query_candidate = r.T_a_b;
   c->status = LoopStatus::kAccepted;
-  c->reason = str(r.inlier_count, " inliers of ", c->matches, ", rmse ", r.rmse_m, " m");
+  c->reason = str(r.inlier_count, " inliers of ", c->matches, " and ", r.line_inlier_count, " lines, rmse ", r.rmse_m, " m");
   if (inlier_pairs)
     for (size_t i = 0; i < pairs.size(); ++i)
       if (r.inliers[i]) inlier_pairs->push_back(pairs[i]);
 }
 
 namespace {
-/// Per keypoint of `kf`: its map point in the keyframe's camera frame (NaN when none). Map lock held.
-std::vector<Eigen::Vector3d> mapPointsInCamera(const Map& map, const KeyFrame& kf) {
-  std::vector<Eigen::Vector3d> out(kf.point_ids.size(), Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
+/// A keyframe's map points and map lines in its camera frame (NaN when none). Map lock held.
+FeatureGeometry landmarksInCamera(const Map& map, const KeyFrame& kf) {
+  const Eigen::Vector3d nan = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  FeatureGeometry g;
+  g.points.assign(kf.point_ids.size(), nan);
+  g.lines.assign(kf.line_ids.size(), {nan, nan});
   const SE3 T_c_w = kf.T_w_c.inverse();
   for (size_t i = 0; i < kf.point_ids.size(); ++i)
-    if (const MapPoint* p = kf.point_ids[i] == kNoId ? nullptr : map.point(kf.point_ids[i])) out[i] = T_c_w * p->p_w;
-  return out;
+    if (const MapPoint* p = kf.point_ids[i] == kNoId ? nullptr : map.point(kf.point_ids[i])) g.points[i] = T_c_w * p->p_w;
+  for (size_t i = 0; i < kf.line_ids.size(); ++i)
+    if (const MapLine* l = kf.line_ids[i] == kNoId ? nullptr : map.line(kf.line_ids[i]))
+      g.lines[i] = {T_c_w * l->P_w, T_c_w * l->Q_w};
+  return g;
 }
 }  // namespace
 
@@ -149,7 +200,7 @@ std::optional<LoopCorrection> LoopCloser::processKeyframe(Id id) {
   FrameFeatures features;
   std::vector<KeyframeInstance> instances;
   std::vector<std::pair<Id, int>> covisible;
-  std::vector<Eigen::Vector3d> query_points;
+  FeatureGeometry query_geometry;
   {
     std::lock_guard<std::mutex> lock(map_->mutex());
     const KeyFrame* kf = map_->keyframe(id);
@@ -157,7 +208,7 @@ std::optional<LoopCorrection> LoopCloser::processKeyframe(Id id) {
     features = kf->features;
     instances = kf->instances;
     covisible = map_->covisible(id, 1);
-    query_points = mapPointsInCamera(*map_, *kf);
+    query_geometry = landmarksInCamera(*map_, *kf);
   }
   const KeyframeBow bow = describeBow(*vocabulary_, features);
   const bool has_lines = !bow.lbd.empty();
@@ -263,17 +314,17 @@ std::optional<LoopCorrection> LoopCloser::processKeyframe(Id id) {
     }
     FrameFeatures other;
     std::vector<KeyframeInstance> other_instances;
-    std::vector<Eigen::Vector3d> other_points;
+    FeatureGeometry other_geometry;
     {
       std::lock_guard<std::mutex> lock(map_->mutex());
       const KeyFrame* kf = map_->keyframe(c.candidate);
       if (!kf) continue;
       other = kf->features;
       other_instances = kf->instances;
-      other_points = mapPointsInCamera(*map_, *kf);
+      other_geometry = landmarksInCamera(*map_, *kf);
     }
     std::vector<std::pair<int, int>> inlier_pairs;
-    verifyGeometry(features, other, camera_, options_, &c, &inlier_pairs, &query_points, &other_points);
+    verifyGeometry(features, other, camera_, options_, &c, &inlier_pairs, &query_geometry, &other_geometry);
     if (c.status == LoopStatus::kAccepted && options_.use_semantics && !instances.empty() && !other_instances.empty()) {
       const SemanticResult sem =
           matchInstances(instances, other_instances, diagonal, options_.semantic, c.T_query_candidate);

@@ -11,10 +11,11 @@
 //     the semantic factor (semantic_match.h) when instances are known;
 //  3. candidates above `min_normalised_score` must be consistent over `consistency`
 //     consecutive keyframes (their covisibility groups overlap, as in ORB-SLAM);
-//  4. geometric verification: ORB descriptor matches (ratio + mutual), keypoints with depth
-//     back-projected, 3D-3D RANSAC + Umeyama refinement (rigid_ransac.h); thresholds on
-//     matches, inliers and inlier ratio; then the instance positions are checked under the
-//     found pose (a semantic contradiction rejects the loop);
+//  4. geometric verification: ORB descriptor matches (ratio + mutual) on the keyframes'
+//     map points, 3D-3D RANSAC + Umeyama refinement (rigid_ransac.h); the map lines that
+//     agree with that pose join a second RANSAC whose refinement fits points and lines;
+//     thresholds on matches, point inliers and inlier ratio; then the instance positions are
+//     checked under the found pose (a semantic contradiction rejects the loop);
 //  5. the first accepted candidate closes the loop: the query keyframe's covisibility group
 //     is moved by the loop correction, a pose graph over all keyframes (consecutive,
 //     strong covisibility and all loop edges so far) is optimised with the oldest
@@ -71,10 +72,13 @@ struct LoopOptions {
   bool use_semantics = true;         ///< weigh scores with the keyframes' instances
   SemanticOptions semantic;          ///< instance matching
   BruteForceOptions matching{64, 0.8f, true};  ///< ORB matching for verification
+  /// LBD distance accepted for a line that agrees with the points' pose (loose: the
+  /// geometry chose it, and LBD changes with the viewpoint across a loop).
+  int line_max_distance = 110;
   double max_depth_m = 6.0;          ///< keypoints farther than this are not used
   RigidRansacOptions ransac;         ///< 3D-3D RANSAC
-  int min_matches = 30;              ///< descriptor matches with depth needed
-  int min_inliers = 25;              ///< RANSAC inliers needed
+  int min_matches = 30;              ///< ORB matches with depth needed
+  int min_inliers = 25;              ///< RANSAC point inliers needed
   double min_inlier_ratio = 0.3;     ///< inliers / matches needed
   double edge_sigma_trans_m = 0.02;  ///< pose-graph edge sigma, translation (m)
   double edge_sigma_rot_deg = 1.0;   ///< pose-graph edge sigma, rotation (deg)
@@ -104,7 +108,8 @@ struct LoopCandidate {
   double score = 0;            ///< combined
   double normalised = 0;       ///< combined / best covisible neighbour, times the semantic factor
   double semantic_factor = 1;
-  int matches = 0, inliers = 0;
+  int matches = 0, inliers = 0;  ///< ORB matches with depth, and RANSAC inliers among them
+  int line_matches = 0, line_inliers = 0;  ///< lines paired under the pose, and inliers of the final fit
   SE3 T_query_candidate;       ///< the verified relative pose (when matched)
   LoopStatus status = LoopStatus::kLowScore;
   std::string reason;
@@ -131,17 +136,26 @@ double combinedScore(double orb, double lbd, bool lines_in_both, const LoopOptio
 /// Bags of words of one keyframe's features.
 KeyframeBow describeBow(const VocabularySet& vocabulary, const FrameFeatures& features);
 
-/// Geometric verification of two keyframes' features with depth: ORB matches, back-projected
-/// keypoints, RANSAC. Fills matches, inliers, T_query_candidate, status and reason of `c`;
-/// `inlier_pairs` (optional) gets the (query keypoint, candidate keypoint) inlier pairs.
-/// `query_points_c` / `candidate_points_c` (optional, per keypoint, camera frame, NaN when
-/// unknown): 3D positions to use instead of the back-projected depth (the loop closer passes
-/// its bundle-adjusted map points, which are more accurate than one depth reading).
+/// 3D positions of one keyframe's features in its camera frame, per feature index (NaN or
+/// missing entries: unknown).
+struct FeatureGeometry {
+  std::vector<Eigen::Vector3d> points;  ///< per keypoint
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> lines;  ///< per line: endpoints for p and q
+};
+
+/// Geometric verification of two keyframes' features with depth: ORB matches with
+/// back-projected keypoints, 3D-3D RANSAC on them (rigid_ransac.h); then the lines whose 3D
+/// segments are known in both are paired under that pose and the RANSAC runs again on
+/// points and lines. Acceptance counts point inliers. Fills matches, inliers, line_matches,
+/// line_inliers, T_query_candidate,
+/// status and reason of `c`; `inlier_pairs` (optional) gets the (query keypoint, candidate
+/// keypoint) inlier pairs. `query_c` / `candidate_c` (optional): 3D positions to use instead
+/// of the keypoints' depth, and the only source of 3D lines (the loop closer passes its
+/// bundle-adjusted map points and its map lines, more accurate than one depth reading).
 void verifyGeometry(const FrameFeatures& query, const FrameFeatures& candidate, const PinholeCamera& camera,
                     const LoopOptions& options, LoopCandidate* c,
-                    std::vector<std::pair<int, int>>* inlier_pairs = nullptr,
-                    const std::vector<Eigen::Vector3d>* query_points_c = nullptr,
-                    const std::vector<Eigen::Vector3d>* candidate_points_c = nullptr);
+                    std::vector<std::pair<int, int>>* inlier_pairs = nullptr, const FeatureGeometry* query_c = nullptr,
+                    const FeatureGeometry* candidate_c = nullptr);
 
 class LoopCloser {
  public:

@@ -1,7 +1,11 @@
-// Rigid 3D-3D registration: Horn/Umeyama closed form (no scale) inside RANSAC on minimal
-// samples of three correspondences, then least-squares refinement on the inliers until the
-// inlier set settles. The inlier gate grows with depth like the sensor noise:
+// Rigid 3D-3D registration of points and line segments: Horn/Umeyama closed form (no
+// scale) inside RANSAC on minimal samples of three point correspondences; the consensus
+// counts points and lines; then least-squares refinement on the inliers of both until the
+// inlier sets settle. The inlier gate grows with depth like the sensor noise:
 // |p_a - T_a_b p_b| < threshold_m + depth_coeff * z^2 (z: depth of p_a).
+// A segment's endpoints are where its detection happened to stop, so a line pair is
+// compared by the distance of b's endpoints (moved by T_a_b) to a's infinite line, each
+// under the same gate, and by the angle between the two directions.
 //
 // Deterministic for a given seed. Stateless; thread-safe.
 #pragma once
@@ -19,15 +23,24 @@ struct RigidRansacOptions {
   double threshold_m = 0.03;    ///< inlier distance at zero depth, metres
   double depth_coeff = 0.01;    ///< plus this times depth squared (1/m)
   int refine_rounds = 5;        ///< least-squares refits on the inliers
+  double line_angle_deg = 5;    ///< direction difference accepted for a line inlier
   uint64_t seed = 1;            ///< sampling seed
 };
 
+/// A pair of matched 3D segments (endpoints in each camera frame).
+struct SegmentPair3D {
+  Eigen::Vector3d p_a, q_a;  ///< segment in a (defines the line)
+  Eigen::Vector3d p_b, q_b;  ///< segment in b
+};
+
 struct RigidRansacResult {
-  bool ok = false;               ///< a model with at least three inliers was found
+  bool ok = false;               ///< a model with at least three point inliers was found
   SE3 T_a_b;                     ///< maps points of b onto points of a
-  std::vector<char> inliers;     ///< per correspondence
-  int inlier_count = 0;
-  double rmse_m = 0;             ///< over the inliers
+  std::vector<char> inliers;     ///< per point correspondence
+  int inlier_count = 0;          ///< point inliers
+  std::vector<char> line_inliers;  ///< per segment pair
+  int line_inlier_count = 0;
+  double rmse_m = 0;             ///< over the point inliers
 };
 
 /// Least-squares rigid transform with p_a ~ T * p_b over the selected correspondences
@@ -35,7 +48,19 @@ struct RigidRansacResult {
 SE3 umeyamaRigid(const std::vector<Eigen::Vector3d>& p_a, const std::vector<Eigen::Vector3d>& p_b,
                  const std::vector<char>& select = {});
 
+/// Whether a segment pair agrees with `T_a_b` (the line gate above).
+bool segmentsAgree(const SegmentPair3D& pair, const SE3& T_a_b, const RigidRansacOptions& options);
+
+/// Refines `T_a_b` by Gauss-Newton on the selected point pairs (3D distance) and segment
+/// pairs (distance of b's endpoints to a's line). Empty selections select all.
+SE3 refineRigid(const SE3& T_a_b, const std::vector<Eigen::Vector3d>& p_a, const std::vector<Eigen::Vector3d>& p_b,
+                const std::vector<char>& point_select, const std::vector<SegmentPair3D>& lines,
+                const std::vector<char>& line_select, int iterations = 5);
+
 RigidRansacResult ransacRigid(const std::vector<Eigen::Vector3d>& p_a, const std::vector<Eigen::Vector3d>& p_b,
                               const RigidRansacOptions& options);
+/// The same with segment pairs in the consensus and in the refinement.
+RigidRansacResult ransacRigid(const std::vector<Eigen::Vector3d>& p_a, const std::vector<Eigen::Vector3d>& p_b,
+                              const std::vector<SegmentPair3D>& lines, const RigidRansacOptions& options);
 
 }  // namespace plslam

@@ -103,8 +103,9 @@ void expectLapClosed(const LapSize& size, const Tolerances& tol) {
     (ok ? correct : wrong) += 1;
     EXPECT_TRUE(ok) << "loop " << c.query << "-" << c.candidate << ": verified relative pose off by " << vt << " m, "
                     << vr << " deg; after correction " << dt << " m, " << dr << " deg";
-    std::printf("loop %ld-%ld: verified relative pose off by %.4f m %.3f deg; after correction %.4f m %.3f deg\n",
-                static_cast<long>(c.query), static_cast<long>(c.candidate), vt, vr, dt, dr);
+    std::printf("loop %ld-%ld (%d point and %d line inliers): verified relative pose off by %.4f m %.3f deg; after "
+                "correction %.4f m %.3f deg\n",
+                static_cast<long>(c.query), static_cast<long>(c.candidate), c.inliers, c.line_inliers, vt, vr, dt, dr);
     // At the revisit: the query near the end of the lap, the match near its start.
     EXPECT_GT(tq - t0, 0.8 * (t1 - t0));
     EXPECT_LT(tc - t0, 0.2 * (t1 - t0));

@@ -9,6 +9,7 @@
 
 #include "frontend/feature_extraction.h"
 #include "loop/loop_closer.h"
+#include "mapping/line_reconstruction.h"
 #include "synth/renderer.h"
 
 using namespace plslam;
@@ -99,6 +100,44 @@ TEST(LoopPlaces, TwoViewsOfOnePlaceGiveTheRelativePoseWithinTwoCentimetresAndOne
   const SE3 error = truth.inverse() * c.T_query_candidate;
   EXPECT_LT(error.translation().norm(), 0.02) << c.reason;
   EXPECT_LT(error.quaternion().angularDistance(Eigen::Quaterniond::Identity()) * 180 / M_PI, 1.0) << c.reason;
+}
+
+TEST(LoopPlaces, LinesKnownInThreeDimensionsArePairedUnderThePointsPoseAndJoinTheFit) {
+  const SE3 T_w_a = scene().cameraPose(0);
+  const View a = render(T_w_a, 1), b = render(T_w_a * kOffset, 2);
+  auto linesOf = [](const View& v) {
+    FeatureGeometry g;
+    const Eigen::Vector3d nan = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+    for (const Segment2D& l : v.features.lines) {
+      const auto s = fitLine3D(l.p_raw, l.q_raw, v.frame.depth_m, scene().camera(), LineFitOptions{});
+      g.lines.emplace_back(s ? s->P_c : nan, s ? s->Q_c : nan);
+    }
+    return g;
+  };
+  const FeatureGeometry ga = linesOf(a), gb = linesOf(b);
+  const SE3 truth = a.T_w_c.inverse() * b.T_w_c;
+  LoopCandidate points_only, with_lines;
+  points_only.query = with_lines.query = 1;
+  points_only.candidate = with_lines.candidate = 0;
+  verifyGeometry(a.features, b.features, scene().camera(), LoopOptions{}, &points_only);
+  verifyGeometry(a.features, b.features, scene().camera(), LoopOptions{}, &with_lines, nullptr, &ga, &gb);
+  ASSERT_EQ(with_lines.status, LoopStatus::kAccepted) << with_lines.reason;
+  EXPECT_EQ(points_only.line_matches, 0);
+  EXPECT_GE(with_lines.line_matches, 10) << with_lines.reason;
+  EXPECT_GE(with_lines.line_inliers, 10) << with_lines.reason;
+  const SE3 error = truth.inverse() * with_lines.T_query_candidate;
+  const SE3 error_points = truth.inverse() * points_only.T_query_candidate;
+  std::printf("points only: %.4f m %.3f deg; with %d of %d lines: %.4f m %.3f deg\n", error_points.translation().norm(),
+              error_points.quaternion().angularDistance(Eigen::Quaterniond::Identity()) * 180 / M_PI,
+              with_lines.line_inliers, with_lines.line_matches, error.translation().norm(),
+              error.quaternion().angularDistance(Eigen::Quaterniond::Identity()) * 180 / M_PI);
+  // The lines pin the pose down better than the points alone (measured 7.8 -> 3.4 mm,
+  // 0.22 -> 0.08 degrees).
+  EXPECT_LT(error.translation().norm(), error_points.translation().norm());
+  EXPECT_LT(error.quaternion().angularDistance(Eigen::Quaterniond::Identity()),
+            error_points.quaternion().angularDistance(Eigen::Quaterniond::Identity()));
+  EXPECT_LT(error.translation().norm(), 0.02) << with_lines.reason;
+  EXPECT_LT(error.quaternion().angularDistance(Eigen::Quaterniond::Identity()) * 180 / M_PI, 1.0) << with_lines.reason;
 }
 
 TEST(LoopPlaces, SameTexturesInAnotherLayoutLookAlikeButAreNotAccepted) {

@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -37,6 +38,7 @@
 #include "frontend/feature_extraction.h"
 #include "io/dataset.h"
 #include "loop/loop_closer.h"
+#include "mapping/line_reconstruction.h"
 
 namespace plslam::cli {
 
@@ -46,6 +48,7 @@ struct FrameInfo {
   TimeNs t_ns = 0;
   SE3 T_w_c;
   FrameFeatures features;
+  FeatureGeometry geometry;  ///< the lines fitted to depth (points use their keypoint depth)
   KeyframeBow bow;
   std::vector<KeyframeInstance> instances;
 };
@@ -161,6 +164,12 @@ int runEvalLoops(int argc, char** argv) {
     f.t_ns = frame.t_ns;
     f.T_w_c = *T;
     f.features = extractFeatures(frame, cv::Mat(), camera, fo);
+    // The loop closer verifies with map lines; here each line is fitted to this frame's depth.
+    for (const Segment2D& l : f.features.lines) {
+      const std::optional<LineSegment3D> s = fitLine3D(l.p_raw, l.q_raw, frame.depth_m, camera, LineFitOptions{});
+      const Eigen::Vector3d nan = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+      f.geometry.lines.emplace_back(s ? s->P_c : nan, s ? s->Q_c : nan);
+    }
     f.bow = describeBow(vocab, f.features);
     if (so.kind != SegmenterKind::kNone)
       f.instances = describeInstances(segmenter->segment(frame), {}, frame.depth_m, camera);
@@ -224,7 +233,7 @@ int runEvalLoops(int argc, char** argv) {
       const ScoredProposal p{reference > 0 ? best / reference : best, samePlace(q, frames[best_j])};
       if (v == 3 && p.score >= threshold) {
         LoopCandidate c;
-        verifyGeometry(q.features, frames[best_j].features, camera, lo, &c);
+        verifyGeometry(q.features, frames[best_j].features, camera, lo, &c, nullptr, &q.geometry, &frames[best_j].geometry);
         if (c.status == LoopStatus::kAccepted) {
           // A false loop is one whose verified relative pose is wrong: an accepted view just
           // beyond the ground-truth radius (an overlap at 25 degrees) with the right pose is not.
