@@ -63,7 +63,7 @@ struct LoopOptions {
   std::string vocabulary;            ///< vocabulary file (empty: the one shipped in vocab/)
   double point_weight = 0.6;         ///< weight of the ORB score in the combined similarity
   double line_weight = 0.4;          ///< weight of the LBD score (0 when either keyframe has no lines)
-  double min_normalised_score = 0.6; ///< candidates need score / best-covisible score above this
+  double min_normalised_score = 0.65; ///< candidates need score / best-covisible score above this
   double min_score = 0.02;           ///< and a combined score above this
   int exclude_recent = 10;           ///< the last keyframes before the query are never candidates
   int covisible_exclude_min_shared = 1;  ///< keyframes sharing this many points with the query are not candidates
