@@ -13,17 +13,22 @@ SE3 someTransform() {
   return SE3(Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Eigen::Vector3d(0.3, -1, 0.2).normalized())),
              Eigen::Vector3d(0.5, -0.2, 0.3));
 }
+
+/// n random points in front of the camera (b) and the same points moved by T (a).
+void exactPairs(const SE3& T, int n, std::mt19937* rng, std::vector<Eigen::Vector3d>* a, std::vector<Eigen::Vector3d>* b) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int i = 0; i < n; ++i) {
+    b->emplace_back(u(*rng), u(*rng), 2 + u(*rng));
+    a->push_back(T * b->back());
+  }
+}
 }  // namespace
 
 TEST(RigidRansac, UmeyamaRecoversAnExactTransform) {
   std::mt19937 rng(1);
-  std::uniform_real_distribution<double> u(-1, 1);
   const SE3 T = someTransform();
   std::vector<Eigen::Vector3d> a, b;
-  for (int i = 0; i < 20; ++i) {
-    b.emplace_back(u(rng), u(rng), 2 + u(rng));
-    a.push_back(T * b.back());
-  }
+  exactPairs(T, 20, &rng, &a, &b);
   const SE3 est = umeyamaRigid(a, b);
   EXPECT_LT((est.translation() - T.translation()).norm(), 1e-9);
   EXPECT_LT(est.quaternion().angularDistance(T.quaternion()), 1e-9);
@@ -75,13 +80,9 @@ std::vector<SegmentPair3D> segmentsUnder(const SE3& T, int n, std::mt19937* rng)
 
 TEST(RigidRansac, LinesJoinTheConsensusByTheirDistanceToTheLineNotTheirEndpoints) {
   std::mt19937 rng(3);
-  std::uniform_real_distribution<double> u(-1, 1);
   const SE3 T = someTransform();
   std::vector<Eigen::Vector3d> a, b;
-  for (int i = 0; i < 20; ++i) {
-    b.emplace_back(u(rng), u(rng), 2 + u(rng));
-    a.push_back(T * b.back());
-  }
+  exactPairs(T, 20, &rng, &a, &b);
   std::vector<SegmentPair3D> lines = segmentsUnder(T, 10, &rng);
   // Two wrong pairs: a's line moved off by 20 cm, and one turned by 30 degrees.
   lines[3].p_a += Eigen::Vector3d(0.2, 0, 0), lines[3].q_a += Eigen::Vector3d(0.2, 0, 0);
