@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "mapping/line_reconstruction.h"
 
 namespace plslam {
 
@@ -49,6 +50,16 @@ KeyframeBow describeBow(const VocabularySet& vocabulary, const FrameFeatures& f)
   b.orb = vocabulary.orb.transform(f.point_descriptors);
   b.lbd = vocabulary.lbd.transform(f.line_descriptors);
   return b;
+}
+
+FeatureGeometry linesFittedToDepth(const FrameFeatures& features, const cv::Mat& depth_m, const PinholeCamera& camera) {
+  const Eigen::Vector3d nan = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  FeatureGeometry g;
+  for (const Segment2D& l : features.lines) {
+    const std::optional<LineSegment3D> s = fitLine3D(l.p_raw, l.q_raw, depth_m, camera, LineFitOptions{});
+    g.lines.emplace_back(s ? s->P_c : nan, s ? s->Q_c : nan);
+  }
+  return g;
 }
 
 namespace {

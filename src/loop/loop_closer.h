@@ -144,13 +144,17 @@ struct FeatureGeometry {
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> lines;  ///< per line: endpoints for p and q
 };
 
+/// The lines of `features` fitted to one depth image (fitLine3D with default options; NaN
+/// where the fit fails), points left to their keypoints' depth: the geometry of a frame
+/// that is not a keyframe of a map.
+FeatureGeometry linesFittedToDepth(const FrameFeatures& features, const cv::Mat& depth_m, const PinholeCamera& camera);
+
 /// Geometric verification of two keyframes' features with depth: ORB matches with
 /// back-projected keypoints, 3D-3D RANSAC on them (rigid_ransac.h); then the lines whose 3D
 /// segments are known in both are paired under that pose and the RANSAC runs again on
 /// points and lines. Acceptance counts point inliers. Fills matches, inliers, line_matches,
-/// line_inliers, T_query_candidate,
-/// status and reason of `c`; `inlier_pairs` (optional) gets the (query keypoint, candidate
-/// keypoint) inlier pairs. `query_c` / `candidate_c` (optional): 3D positions to use instead
+/// line_inliers, T_query_candidate, status and reason of `c`; `inlier_pairs` (optional)
+/// gets the (query keypoint, candidate keypoint) inlier pairs. `query_c` / `candidate_c` (optional): 3D positions to use instead
 /// of the keypoints' depth, and the only source of 3D lines (the loop closer passes its
 /// bundle-adjusted map points and its map lines, more accurate than one depth reading).
 void verifyGeometry(const FrameFeatures& query, const FrameFeatures& candidate, const PinholeCamera& camera,

@@ -38,7 +38,6 @@ Eigen::Vector3d offLine(const Eigen::Vector3d& x, const Eigen::Vector3d& on_line
   const Eigen::Vector3d v = x - on_line;
   return v - d * d.dot(v);
 }
-
 }  // namespace
 
 bool segmentsAgree(const SegmentPair3D& l, const SE3& T, const RigidRansacOptions& o) {
@@ -50,15 +49,6 @@ bool segmentsAgree(const SegmentPair3D& l, const SE3& T, const RigidRansacOption
   return offLine(p, l.p_a, da).squaredNorm() < gp * gp && offLine(q, l.p_a, da).squaredNorm() < gq * gq;
 }
 
-namespace {
-
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
-}  // namespace
-
 SE3 refineRigid(const SE3& T0, const std::vector<Eigen::Vector3d>& p_a, const std::vector<Eigen::Vector3d>& p_b,
                 const std::vector<char>& point_select, const std::vector<SegmentPair3D>& lines,
                 const std::vector<char>& line_select, int iterations) {
@@ -69,7 +59,7 @@ SE3 refineRigid(const SE3& T0, const std::vector<Eigen::Vector3d>& p_a, const st
     Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
     auto add = [&](const Eigen::Matrix3d& P, const Eigen::Vector3d& y, const Eigen::Vector3d& r) {
       Eigen::Matrix<double, 3, 6> J;
-      J << -skew(y), Eigen::Matrix3d::Identity();
+      J << -hat(y), Eigen::Matrix3d::Identity();
       J = P * J;
       H += J.transpose() * J;
       g += J.transpose() * r;

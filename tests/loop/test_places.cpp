@@ -9,7 +9,6 @@
 
 #include "frontend/feature_extraction.h"
 #include "loop/loop_closer.h"
-#include "mapping/line_reconstruction.h"
 #include "synth/renderer.h"
 
 using namespace plslam;
@@ -105,16 +104,8 @@ TEST(LoopPlaces, TwoViewsOfOnePlaceGiveTheRelativePoseWithinTwoCentimetresAndOne
 TEST(LoopPlaces, LinesKnownInThreeDimensionsArePairedUnderThePointsPoseAndJoinTheFit) {
   const SE3 T_w_a = scene().cameraPose(0);
   const View a = render(T_w_a, 1), b = render(T_w_a * kOffset, 2);
-  auto linesOf = [](const View& v) {
-    FeatureGeometry g;
-    const Eigen::Vector3d nan = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
-    for (const Segment2D& l : v.features.lines) {
-      const auto s = fitLine3D(l.p_raw, l.q_raw, v.frame.depth_m, scene().camera(), LineFitOptions{});
-      g.lines.emplace_back(s ? s->P_c : nan, s ? s->Q_c : nan);
-    }
-    return g;
-  };
-  const FeatureGeometry ga = linesOf(a), gb = linesOf(b);
+  const FeatureGeometry ga = linesFittedToDepth(a.features, a.frame.depth_m, scene().camera());
+  const FeatureGeometry gb = linesFittedToDepth(b.features, b.frame.depth_m, scene().camera());
   const SE3 truth = a.T_w_c.inverse() * b.T_w_c;
   LoopCandidate points_only, with_lines;
   points_only.query = with_lines.query = 1;

@@ -38,7 +38,6 @@
 #include "frontend/feature_extraction.h"
 #include "io/dataset.h"
 #include "loop/loop_closer.h"
-#include "mapping/line_reconstruction.h"
 
 namespace plslam::cli {
 
@@ -165,11 +164,7 @@ int runEvalLoops(int argc, char** argv) {
     f.T_w_c = *T;
     f.features = extractFeatures(frame, cv::Mat(), camera, fo);
     // The loop closer verifies with map lines; here each line is fitted to this frame's depth.
-    for (const Segment2D& l : f.features.lines) {
-      const std::optional<LineSegment3D> s = fitLine3D(l.p_raw, l.q_raw, frame.depth_m, camera, LineFitOptions{});
-      const Eigen::Vector3d nan = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
-      f.geometry.lines.emplace_back(s ? s->P_c : nan, s ? s->Q_c : nan);
-    }
+    f.geometry = linesFittedToDepth(f.features, frame.depth_m, camera);
     f.bow = describeBow(vocab, f.features);
     if (so.kind != SegmenterKind::kNone)
       f.instances = describeInstances(segmenter->segment(frame), {}, frame.depth_m, camera);
