@@ -56,7 +56,8 @@ FeatureGeometry linesFittedToDepth(const FrameFeatures& features, const cv::Mat&
   const Eigen::Vector3d nan = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   FeatureGeometry g;
   for (const Segment2D& l : features.lines) {
-    const std::optional<LineSegment3D> s = fitLine3D(l.p_raw, l.q_raw, depth_m, camera, LineFitOptions{});
+    const std::optional<LineSegment3D> s =
+        depth_m.empty() ? std::nullopt : fitLine3D(l.p_raw, l.q_raw, depth_m, camera, LineFitOptions{});
     g.lines.emplace_back(s ? s->P_c : nan, s ? s->Q_c : nan);
   }
   return g;

@@ -145,8 +145,9 @@ struct FeatureGeometry {
 };
 
 /// The lines of `features` fitted to one depth image (fitLine3D with default options; NaN
-/// where the fit fails), points left to their keypoints' depth: the geometry of a frame
-/// that is not a keyframe of a map.
+/// where the fit fails or there is no depth image), points left to their keypoints' depth:
+/// the geometry of a frame that is not a keyframe of a map. Throws DataError when a
+/// non-empty depth_m is not CV_32FC1.
 FeatureGeometry linesFittedToDepth(const FrameFeatures& features, const cv::Mat& depth_m, const PinholeCamera& camera);
 
 /// Geometric verification of two keyframes' features with depth: ORB matches with

@@ -106,6 +106,10 @@ TEST(LoopPlaces, LinesKnownInThreeDimensionsArePairedUnderThePointsPoseAndJoinTh
   const View a = render(T_w_a, 1), b = render(T_w_a * kOffset, 2);
   const FeatureGeometry ga = linesFittedToDepth(a.features, a.frame.depth_m, scene().camera());
   const FeatureGeometry gb = linesFittedToDepth(b.features, b.frame.depth_m, scene().camera());
+  // Without a depth image no line is known in 3D (and nothing throws).
+  const FeatureGeometry none = linesFittedToDepth(a.features, cv::Mat(), scene().camera());
+  ASSERT_EQ(none.lines.size(), a.features.lines.size());
+  for (const auto& [p, q] : none.lines) EXPECT_FALSE(p.allFinite() || q.allFinite());
   const SE3 truth = a.T_w_c.inverse() * b.T_w_c;
   LoopCandidate points_only, with_lines;
   points_only.query = with_lines.query = 1;

@@ -14,15 +14,15 @@
 // loop.min_normalised_score). There each variant's appearance-only precision and recall are
 // reported, and the full variant's proposals are also put through the loop closer's
 // geometric verification (3D-3D RANSAC with depth, then with the lines fitted to depth),
-// which is what decides in a run (its two-keyframe consistency check is not applied here). After verification a loop is false
-// when its relative pose is wrong (--pose-tolerance-*): an accepted view just beyond the
-// ground-truth radius, with the right pose, is an overlap and helps a correction.
+// which is what decides in a run (its two-keyframe consistency check is not applied here).
+// After verification a loop is false when its relative pose is wrong (--pose-tolerance-*):
+// an accepted view just beyond the ground-truth radius, with the right pose, is an overlap
+// and helps a correction.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <limits>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
