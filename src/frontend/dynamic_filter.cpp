@@ -182,15 +182,16 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
   MotionCheckResult motion = checkMotion(corr, camera_, options_.motion, prior);
   r.motion_status = motion.status;
 
-  // Per keypoint labels from the check, spread over the graph of all keypoints: unmatched
-  // keypoints take their neighbours' verdict, isolated moving flags are mismatches.
+  // Per keypoint labels from the check, spread over the graph of all keypoints when there are
+  // no instance masks: unmatched keypoints take their neighbours' verdict, isolated moving
+  // flags are mismatches.
   r.point_motion.assign(f->points.size(), -1);
   if (motion.ok())
     for (size_t i = 0; i < corr.size(); ++i)
       if (motion.evidence[i] != MotionEvidence::kNone) r.point_motion[corr_keypoint[i]] = motion.moving[i];
   std::vector<int8_t> checked_motion = r.point_motion;
   std::vector<std::array<cv::Point2f, 3>> moving_triangles;
-  if (options_.spread_labels && motion.ok()) {
+  if (options_.spread_labels && motion.ok() && (seg.empty() || options_.spread_with_masks)) {
     std::vector<Eigen::Vector2d> uv;
     std::vector<double> depth;
     for (const Keypoint& k : f->points) {

@@ -41,6 +41,7 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
   t->bind("dynamic.match_radius_px", &d.match_radius_px, "search radius for adjacent-frame keypoint matches (px)");
   t->bind("dynamic.match_ratio", &d.match_ratio, "adjacent-frame matches need best < ratio * second-best Hamming distance");
   t->bind("dynamic.spread_labels", &d.spread_labels, "spread motion labels to unmatched keypoints over the Delaunay graph of all keypoints");
+  t->bind("dynamic.spread_with_masks", &d.spread_with_masks, "spread labels also on frames with instance masks");
   t->bind("dynamic.mismatch_still_neighbours", &d.spread.min_still_neighbours, "a moving keypoint with no moving graph neighbour and this many still ones is a mismatch");
   t->bind("dynamic.spread_passes", &d.spread.passes, "rounds of label spreading (graph rings)");
   t->bind("dynamic.moving_area_dilate_px", &d.mask.moving_area_dilate_px, "the spread moving area grows by this many pixels");
