@@ -103,6 +103,8 @@ TrackingResult Tracker::track(TimeNs t_ns, const FrameFeatures& f) {
   }
   r.inliers = r.matched_points + r.matched_lines;
   r.T_w_c = T_w_c;
+  r.point_matches = m.point_ids;
+  r.line_matches = m.line_ids;
   if (kLog.enabled(LogLevel::kDebug))
     kLog.debug(str("t=", formatSecondsStamp(t_ns), " points ", f.points.size(), " matched ", r.matched_points, " lines ",
                    f.lines.size(), " matched ", r.matched_lines, " moved ", (T_w_last_.inverse() * T_w_c).translation().norm()));

@@ -80,6 +80,9 @@ struct TrackingResult {
   Id reference_keyframe = kNoId;  ///< the keyframe the pose is kept relative to
   int matched_points = 0, matched_lines = 0;
   int inliers = 0;
+  /// When tracked (not on initialisation): the landmark each keypoint / segment was an
+  /// inlier match of (kNoId: none), for refining the pose later (frame_refinement.h).
+  std::vector<Id> point_matches, line_matches;
 };
 
 class Tracker {

@@ -40,7 +40,7 @@ std::string statsToJson(const RunStats& s, const std::string& extra) {
   os << "{\n  \"frames\": " << s.frames << ",\n  \"tracked\": " << s.tracked
      << ",\n  \"tracked_fraction\": " << (s.frames ? static_cast<double>(s.tracked) / s.frames : 0.0)
      << ",\n  \"keyframes\": " << s.keyframes << ",\n  \"lost_events\": " << s.lost_events
-     << ",\n  \"relocalisations\": " << s.relocalisations << ",\n  \"map_points\": " << s.map_points
+     << ",\n  \"relocalisations\": " << s.relocalisations << ",\n  \"refined_frames\": " << s.refined_frames << ",\n  \"map_points\": " << s.map_points
      << ",\n  \"map_lines\": " << s.map_lines << ",\n  \"tracking_ms\": " << summaryJson(s.tracking_ms)
      << ",\n  \"features_ms\": " << summaryJson(s.features_ms) << ",\n  \"local_ba_ms\": " << summaryJson(s.ba_ms)
      << ",\n  \"line_reconstruction_rate\": {\"fitting\": " << s.line_rate_fitting

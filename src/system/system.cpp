@@ -125,8 +125,14 @@ TrackingResult System::feed(const RgbdFrame& frame, const cv::Mat& mask) {
     rec.reference_keyframe = r.reference_keyframe;
     rec.T_ref_c = map_.keyframe(r.reference_keyframe)->T_w_c.inverse() * r.T_w_c;
   }
-  records_.push_back(rec);
+  rec.keyframes_before = keyframes_made_;
+  if (options_.refine_frames && !r.point_matches.empty()) rec.observations = inlierObservations(f, r.point_matches, r.line_matches);
+  records_.push_back(std::move(rec));
   tracking.unlock();
+  keyframes_made_ += r.new_keyframe;
+  // Two a frame (about 1 ms each): the backlog a keyframe settles is worked off over the
+  // next frames instead of in one burst that would delay the next pose.
+  if (options_.refine_frames) refineSettledFrames(options_.refine_after_keyframes, options_.refine_after_frames, 2);
   if (r.new_keyframe) {
     // The class image is only read for the dense cloud; it is a new image, owned by the job.
     cv::Mat classes = pipeline_->dense.enabled ? classImage(dyn.segmentation) : cv::Mat();
@@ -143,6 +149,36 @@ void System::finish() {
   pipeline_->finished = true;
   pipeline_->queue.close();
   if (pipeline_->mapping_thread.joinable()) pipeline_->mapping_thread.join();
+  if (options_.refine_frames) refineSettledFrames(0, 0, records_.size());
+}
+
+void System::refineSettledFrames(int after_keyframes, int after_frames, size_t max_frames) {
+  const PoseOptimizer optimizer(options_.tracker.optimizer);
+  for (size_t done = 0; next_to_refine_ < records_.size() && done < max_frames; ++next_to_refine_) {
+    FrameRecord& rec = records_[next_to_refine_];
+    const bool settled = keyframes_made_ - rec.keyframes_before >= after_keyframes ||
+                         records_.size() - next_to_refine_ > static_cast<size_t>(after_frames);
+    if (!settled) break;
+    if (rec.observations.empty() || rec.reference_keyframe == kNoId) continue;
+    PoseOnlyProblem problem;
+    std::optional<SE3> T_w_ref;
+    {
+      std::lock_guard<std::mutex> lock(map_.mutex());
+      if (const KeyFrame* kf = map_.keyframe(rec.reference_keyframe)) {
+        T_w_ref = kf->T_w_c;
+        problem = refinementProblem(map_, rec.observations, *T_w_ref * rec.T_ref_c);
+      }
+    }
+    rec.observations = FrameObservations();
+    if (!T_w_ref) continue;
+    ++done;
+    // Solved without the lock; kept relative to the keyframe pose it started from, so a loop
+    // correction meanwhile carries over.
+    if (const auto T_w_c = solveRefinement(camera_, optimizer, problem, options_.tracker.min_inliers)) {
+      rec.T_ref_c = T_w_ref->inverse() * *T_w_c;
+      rec.refined = true;
+    }
+  }
 }
 
 const LoopCloser* System::loopCloser() const { return pipeline_->loop.get(); }
@@ -176,6 +212,7 @@ RunStats System::stats() const {
     if (r.segmentation_ms >= 0) s.segmentation_ms.push_back(r.segmentation_ms);
     s.fresh_segmentations += r.fresh_segmentation;
     if (r.mask_age_frames >= 0) s.mask_age_frames.push_back(r.mask_age_frames);
+    s.refined_frames += r.refined;
   }
   s.lost_events = pipeline_->tracker.lostEvents();
   s.relocalisations = pipeline_->tracker.relocalisations();

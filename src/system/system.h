@@ -27,6 +27,7 @@
 #include "dynamic/segmenter.h"
 #include "frontend/dynamic_filter.h"
 #include "frontend/feature_extraction.h"
+#include "frontend/frame_refinement.h"
 #include "frontend/tracker.h"
 #include "loop/loop_closer.h"
 #include "mapping/local_mapper.h"
@@ -45,6 +46,12 @@ struct SystemOptions {
   DenseOptions dense;           ///< dense clouds per keyframe and the dense products (dense/)
   bool use_loop = true;         ///< loop closure (place recognition + pose graph) on the mapping thread
   LoopOptions loop;             ///< loop closure
+  /// Re-estimate each frame's pose once local BA has refined its landmarks (frame_refinement.h):
+  /// when this many keyframes have been made since it was tracked, or this many frames (so
+  /// that a run without new keyframes, a loaded map, holds few), and at finish().
+  bool refine_frames = true;
+  int refine_after_keyframes = 8;
+  int refine_after_frames = 300;
 };
 
 /// Binds every field of `options` that a configuration file may set.
@@ -63,6 +70,9 @@ struct FrameRecord {
   double segmentation_ms = -1;   ///< a segmentation that finished for this frame (-1: none)
   bool fresh_segmentation = false;  ///< masks at most dynamic.segment_every frames old
   int mask_age_frames = -1;
+  int keyframes_before = 0;       ///< keyframes made before this frame (when to refine it)
+  FrameObservations observations; ///< its inlier matches, until it is refined
+  bool refined = false;           ///< T_ref_c was re-estimated against the settled map
 };
 
 struct RunStats {
@@ -73,6 +83,7 @@ struct RunStats {
   std::vector<double> tracking_ms, features_ms, ba_ms;
   std::vector<double> dynamic_points_rejected, segmentation_ms, mask_age_frames;
   int fresh_segmentations = 0;
+  int refined_frames = 0;  ///< frames whose pose was re-estimated against the settled map
   bool use_lines = true, sequential = false, use_dynamic = false;
   std::string segmenter = "none";
   bool use_loop = false;
@@ -116,6 +127,11 @@ class System {
   Map map_;
   std::unique_ptr<Pipeline> pipeline_;
   std::vector<FrameRecord> records_;
+  int keyframes_made_ = 0;
+  size_t next_to_refine_ = 0;  // records before this one are refined or cannot be
+  /// Refines up to `max_frames` of the records tracked at least `after_keyframes` keyframes
+  /// or `after_frames` frames ago.
+  void refineSettledFrames(int after_keyframes, int after_frames, size_t max_frames);
 };
 
 }  // namespace plslam

@@ -53,6 +53,9 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
 
   LoopOptions& l = o->loop;
   t->bind("system.use_loop", &o->use_loop, "loop closure (place recognition, verification, pose graph)");
+  t->bind("system.refine_frames", &o->refine_frames, "re-estimate each frame's pose once local BA has refined its landmarks");
+  t->bind("system.refine_after_keyframes", &o->refine_after_keyframes, "refine a frame when this many keyframes have been made since it");
+  t->bind("system.refine_after_frames", &o->refine_after_frames, "... or this many frames");
   t->bind("loop.vocabulary", &l.vocabulary, "bag-of-words vocabulary file (empty: vocab/plslam_orb_lbd.voc of the sources)");
   t->bind("loop.point_weight", &l.point_weight, "weight of the ORB similarity in the combined score");
   t->bind("loop.line_weight", &l.line_weight, "weight of the LBD similarity in the combined score");

@@ -60,6 +60,20 @@ TEST(SystemSynthetic, StaticSceneWithinFiveMillimetresAndDeterministic) {
   }
 }
 
+TEST(SystemSynthetic, FrameRefinementBringsTheTrajectoryCloserToTheTruth) {
+  const std::string dir = test::syntheticSequence(synth::SceneKind::kStatic, 120);
+  const PinholeCamera camera = loadCameraFile(dir + "/camera.xml");
+  SystemOptions as_tracked = sequential();
+  as_tracked.refine_frames = false;
+  const RunResult a = runOn(dir, camera, as_tracked);
+  const RunResult b = runOn(dir, camera, sequential());
+  std::printf("static scene ATE: as tracked %.5f m, refined %.5f m (%d of %d frames refined)\n", a.ate, b.ate,
+              b.stats.refined_frames, b.stats.tracked);
+  EXPECT_EQ(a.stats.refined_frames, 0);
+  EXPECT_GE(b.stats.refined_frames, b.stats.tracked * 9 / 10) << "nearly every tracked frame has matches to refine with";
+  EXPECT_LT(b.ate, a.ate);
+}
+
 TEST(SystemSynthetic, ThreadedModeTracksAndFinishes) {
   const std::string dir = test::syntheticSequence(synth::SceneKind::kStatic, 120);
   const PinholeCamera camera = loadCameraFile(dir + "/camera.xml");
@@ -123,10 +137,11 @@ TEST(SystemRobustness, FramesWithoutDepthOrTextureGiveAStatusNotACrash) {
 }
 
 namespace {
-void expectTumRegression(const std::string& sequence, const std::string& calib, double max_ate, bool all_tracked) {
+void expectTumRegression(const std::string& sequence, const std::string& calib, double max_ate, bool all_tracked,
+                         SystemOptions options = sequential()) {
   const std::string dir = test::sharedDir() + "/data/tum/" + sequence;
   const PinholeCamera camera = loadCameraFile(test::sourceDir() + "/calib/" + calib);
-  const RunResult r = runOn(dir, camera, sequential());
+  const RunResult r = runOn(dir, camera, options);
   std::printf("%s: ATE RMSE %.4f m, tracked %d/%d, keyframes %d, line rate fitting %.3f endpoints %.3f\n",
               sequence.c_str(), r.ate, r.stats.tracked, r.stats.frames, r.stats.keyframes, r.stats.line_rate_fitting,
               r.stats.line_rate_endpoints);
@@ -146,4 +161,15 @@ TEST(TumRegression, Fr1XyzAteAndTracking) {
 TEST(TumRegression, Fr3SittingStaticAte) {
   PLSLAM_REQUIRE_SHARED("data/tum/fr3_sitting_static_150");
   expectTumRegression("fr3_sitting_static_150", "tum_freiburg3.xml", 0.015, false);
+}
+
+TEST(TumRegression, Fr3SittingStaticWithYoloMasksAte) {
+  PLSLAM_REQUIRE_SHARED("data/tum/fr3_sitting_static_150");
+  PLSLAM_REQUIRE_SHARED("models/yolov8n-seg-320.onnx");
+  SystemOptions o = sequential();
+  o.segmenter.kind = SegmenterKind::kYolo;
+  o.segmenter.yolo.model_path = test::sharedDir() + "/models/yolov8n-seg-320.onnx";
+  // Issue 4's figure (published: ORB-SLAM2 0.0087, DS-SLAM 0.0065 on the whole sequence).
+  // Measured 0.0065 m (0.0084 m with the poses as tracked, system.refine_frames off).
+  expectTumRegression("fr3_sitting_static_150", "tum_freiburg3.xml", 0.008, true, o);
 }
