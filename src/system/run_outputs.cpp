@@ -43,6 +43,7 @@ std::string statsToJson(const RunStats& s, const std::string& extra) {
      << ",\n  \"relocalisations\": " << s.relocalisations << ",\n  \"refined_frames\": " << s.refined_frames << ",\n  \"map_points\": " << s.map_points
      << ",\n  \"map_lines\": " << s.map_lines << ",\n  \"tracking_ms\": " << summaryJson(s.tracking_ms)
      << ",\n  \"features_ms\": " << summaryJson(s.features_ms) << ",\n  \"local_ba_ms\": " << summaryJson(s.ba_ms)
+     << ",\n  \"refinement_ms\": " << summaryJson(s.refinement_ms)
      << ",\n  \"line_reconstruction_rate\": {\"fitting\": " << s.line_rate_fitting
      << ", \"endpoints\": " << s.line_rate_endpoints << ", \"keyframes\": " << s.line_rate_keyframes << "}"
      << ",\n  \"dynamic\": {\"segmenter\": \"" << s.segmenter << "\", \"points_rejected_per_frame\": "

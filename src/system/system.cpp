@@ -132,7 +132,11 @@ TrackingResult System::feed(const RgbdFrame& frame, const cv::Mat& mask) {
   keyframes_made_ += r.new_keyframe;
   // Two a frame (about 1 ms each): the backlog a keyframe settles is worked off over the
   // next frames instead of in one burst that would delay the next pose.
-  if (options_.refine_frames) refineSettledFrames(options_.refine_after_keyframes, options_.refine_after_frames, 2);
+  if (options_.refine_frames) {
+    const auto t_refine = std::chrono::steady_clock::now();
+    refineSettledFrames(options_.refine_after_keyframes, options_.refine_after_frames, 2);
+    records_.back().refinement_ms = msSince(t_refine);
+  }
   if (r.new_keyframe) {
     // The class image is only read for the dense cloud; it is a new image, owned by the job.
     cv::Mat classes = pipeline_->dense.enabled ? classImage(dyn.segmentation) : cv::Mat();
@@ -213,6 +217,7 @@ RunStats System::stats() const {
     s.fresh_segmentations += r.fresh_segmentation;
     if (r.mask_age_frames >= 0) s.mask_age_frames.push_back(r.mask_age_frames);
     s.refined_frames += r.refined;
+    s.refinement_ms.push_back(r.refinement_ms);
   }
   s.lost_events = pipeline_->tracker.lostEvents();
   s.relocalisations = pipeline_->tracker.relocalisations();

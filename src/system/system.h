@@ -73,6 +73,7 @@ struct FrameRecord {
   int keyframes_before = 0;       ///< keyframes made before this frame (when to refine it)
   FrameObservations observations; ///< its inlier matches, until it is refined
   bool refined = false;           ///< T_ref_c was re-estimated against the settled map
+  double refinement_ms = 0;       ///< time feed() spent refining earlier frames after this one's pose
 };
 
 struct RunStats {
@@ -84,6 +85,7 @@ struct RunStats {
   std::vector<double> dynamic_points_rejected, segmentation_ms, mask_age_frames;
   int fresh_segmentations = 0;
   int refined_frames = 0;  ///< frames whose pose was re-estimated against the settled map
+  std::vector<double> refinement_ms;  ///< per frame, the refinement of earlier frames feed() did after its pose
   bool use_lines = true, sequential = false, use_dynamic = false;
   std::string segmenter = "none";
   bool use_loop = false;
