@@ -118,3 +118,28 @@ TEST(BenchCli, UnknownSceneIsRefused) {
   EXPECT_NE(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("nosuchscene"), std::string::npos) << r.out;
 }
+
+TEST(BenchCli, MasksReplayTheSyntheticScenesMasksAndSayItInTheTable) {
+  const std::string out = test::scratchDir("bench");
+  const CliRun r = run("--runs 1 --scenes dynamic --synthetic-frames 30 --masks --shared /nonexistent --out '" + out + "'");
+  ASSERT_EQ(r.status, 0) << r.out;
+  const std::vector<std::string> row = tableRow(readFile(out + "/results.md"), "synthetic_dynamic");
+  ASSERT_GE(row.size(), 11u);
+  EXPECT_EQ(row[9], "replayed masks") << "dynamic column";
+  // The run really had the replay segmenter, not geometry only.
+  const std::string stats = readFile(out + "/synthetic_dynamic/run1/stats.json");
+  EXPECT_NE(stats.find("\"segmenter\": \"replay\""), std::string::npos) << stats;
+}
+
+TEST(BenchCli, MasksWithoutAModelForTheTumRowsAreRefusedBeforeAnyRun) {
+  namespace fs = std::filesystem;
+  const std::string out = test::scratchDir("bench");
+  // A shared/ folder with one TUM-looking sequence and no model.
+  const std::string shared = test::scratchDir("bench_shared");
+  fs::create_directories(shared + "/data/tum/fr1_tiny");
+  std::ofstream(shared + "/data/tum/fr1_tiny/rgb.txt") << "# empty\n";
+  const CliRun r = run("--runs 1 --scenes none --masks --shared '" + shared + "' --out '" + out + "'");
+  EXPECT_NE(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("yolov8n-seg-320.onnx"), std::string::npos) << "the missing model is named: " << r.out;
+  EXPECT_FALSE(fs::exists(out + "/results.md")) << "nothing was run";
+}

@@ -192,7 +192,31 @@ struct BenchSettings {
   int runs = 3;
   SystemOptions options;
   std::string config_yaml;
+  bool masks = false;      ///< instance masks: the YOLO model on TUM rows, replayed masks on synthetic ones
+  std::string model;       ///< the YOLOv8-seg model for TUM rows with `masks`
 };
+
+/// The run options of one row: the bench's, with the row's segmenter when masks are asked for.
+SystemOptions rowOptions(const BenchSettings& settings, const SequenceSpec& spec, const TumDataset& dataset) {
+  SystemOptions o = settings.options;
+  if (!settings.masks || !o.dynamic.enabled) return o;
+  if (spec.kind == "synthetic") {
+    o.segmenter.kind = SegmenterKind::kReplay;
+    for (const InstanceLabel& l : dataset.instanceLabels())
+      o.segmenter.replay_labels.push_back({l.instance_id, l.class_id, l.class_name});
+  } else {
+    o.segmenter.kind = SegmenterKind::kYolo;
+    o.segmenter.yolo.model_path = settings.model;
+  }
+  return o;
+}
+
+/// What the "dynamic" column says for a row.
+std::string dynamicLabel(const BenchSettings& settings, const SequenceSpec& spec) {
+  if (!settings.options.dynamic.enabled) return "no";
+  if (!settings.masks) return "geometry";
+  return spec.kind == "synthetic" ? "replayed masks" : "YOLO masks";
+}
 
 /// Runs one sequence `runs` times; fills `result` (also on an error, with what is done).
 void runSequence(const BenchSettings& settings, SequenceResult* result, bool* interrupted) {
@@ -201,11 +225,12 @@ void runSequence(const BenchSettings& settings, SequenceResult* result, bool* in
   TumDataset dataset = TumDataset::open(spec.dir, camera);
   result->frames = static_cast<int>(dataset.size());
   const std::string seq_out = settings.out + "/" + spec.name;
+  const SystemOptions options = rowOptions(settings, spec, dataset);
 
   for (int k = 1; k <= settings.runs && !*interrupted; ++k) {
     const auto t0 = std::chrono::steady_clock::now();
     dataset.rewind();
-    System slam(camera, settings.options);
+    System slam(camera, options);
     slam.start();
     FeedResult fed;
     {
@@ -281,14 +306,16 @@ void runSequence(const BenchSettings& settings, SequenceResult* result, bool* in
   }
 }
 
-std::string markdownTable(const std::vector<SequenceResult>& results, int runs, bool lines, const std::string& dynamic,
-                          bool loop) {
+std::string markdownTable(const std::vector<SequenceResult>& results, const BenchSettings& settings) {
+  const int runs = settings.runs;
+  const bool lines = settings.options.use_lines, loop = settings.options.use_loop;
   std::ostringstream os;
   os << "| sequence | frames | ATE RMSE m median (min-max) | RPE trans m/s | RPE rot deg/s | tracked | keyframes "
         "| tracking ms median / p95 | lines | dynamic | loop |\n"
      << "|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const SequenceResult& s : results) {
     const auto& r = s.runs;
+    const std::string dynamic = dynamicLabel(settings, s.spec);
     os << "| " << s.spec.name << " | " << s.frames << " | ";
     if (r.empty()) {
       os << "failed: " << s.error << " | | | | | | " << (lines ? "yes" : "no") << " | " << dynamic << " | " << (loop ? "yes" : "no") << " |\n";
@@ -323,6 +350,7 @@ std::string resultsJson(const std::vector<SequenceResult>& results, const std::v
     const SequenceResult& s = results[i];
     const auto& r = s.runs;
     os << (i ? "," : "") << "\n    {\"sequence\": " << jsonQuote(s.spec.name) << ", \"kind\": " << jsonQuote(s.spec.kind)
+       << ", \"dynamic\": " << jsonQuote(dynamicLabel(settings, s.spec))
        << ", \"dataset\": " << jsonQuote(s.spec.dir) << ", \"camera\": " << jsonQuote(s.spec.camera_file)
        << ", \"frames\": " << s.frames << ",\n     \"ate_rmse\": "
        << jsonSpread(spread(collect(r, [](const RunFigures& x) { return x.ate; })))
@@ -381,6 +409,8 @@ int runBench(int argc, char** argv) {
       .option("config", "YAML run options (as plslam run --config)")
       .flag("no-lines", "points only: no line features")
       .flag("no-dynamic", "no rejection of moving objects (default: geometric checks, no segmenter)")
+      .flag("masks", "instance masks too: TUM rows through the YOLOv8-seg model of --model, synthetic rows replayed from their masks/")
+      .option("model", "YOLOv8-seg ONNX model for --masks [default: <shared>/models/yolov8n-seg-320.onnx]")
       .flag("no-loop", "no loop closure")
       .flag("sequential", "deterministic single-thread order instead of the threaded mode")
       .option("log-level", "debug, info, warn, error or off", "warn")
@@ -389,7 +419,8 @@ int runBench(int argc, char** argv) {
           "fr2 -> tum_freiburg2.xml, fr3 -> tum_freiburg3.xml; other names are skipped with a warning.\n"
           "Synthetic scenes are rendered once into <out>/synthetic_<scene> and reused while scene.txt matches.\n"
           "Measure a Release build; the machine's load shows in the times.\n\n"
-          "example: plslam bench --runs 3 --scenes static,dynamic --out maps/bench");
+          "example: plslam bench --runs 3 --scenes static,dynamic --out maps/bench\n"
+          "         plslam bench --runs 3 --scenes dynamic,crowded --masks --out maps/bench_masks");
   if (!args.parse(argc, argv)) return 0;
   setLogLevel(parseLogLevel(args.str("log-level")));
   const auto bench_t0 = std::chrono::steady_clock::now();
@@ -403,6 +434,9 @@ int runBench(int argc, char** argv) {
   if (args.has("no-lines")) settings.options.use_lines = false;
   if (args.has("no-dynamic")) settings.options.dynamic.enabled = false;
   if (args.has("no-loop")) settings.options.use_loop = false;
+  settings.masks = args.has("masks");
+  settings.model = args.has("model") ? args.str("model") : (fs::path(args.str("shared")) / "models" / "yolov8n-seg-320.onnx").string();
+  if (settings.masks && !settings.options.dynamic.enabled) throw ConfigError("plslam bench: --masks and --no-dynamic exclude each other");
   settings.config_yaml = table.toYaml("plslam bench: effective configuration");
 
   std::vector<synth::SceneKind> scenes;
@@ -474,6 +508,10 @@ int runBench(int argc, char** argv) {
     specs = kept;
   }
   if (specs.empty()) throw ConfigError("plslam bench: no sequence to run (see the lines above)");
+  // A missing model is refused before hours of runs, not found out at the first TUM row.
+  if (settings.masks && std::any_of(specs.begin(), specs.end(), [](const SequenceSpec& s) { return s.kind == "tum"; }) &&
+      !fs::is_regular_file(settings.model, ec))
+    throw IoError(settings.model + ": no such model file (--masks needs a YOLOv8-seg ONNX model for the TUM rows; give --model)");
 
   fs::create_directories(settings.out, ec);
   if (!fs::is_directory(settings.out)) throw IoError(settings.out + ": cannot create the output folder");
@@ -506,9 +544,7 @@ int runBench(int argc, char** argv) {
 
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - bench_t0).count();
   const double peak_mb = peakRssMb();
-  const std::string table_md = markdownTable(results, settings.runs, settings.options.use_lines,
-                                               settings.options.dynamic.enabled ? "geometry" : "no",
-                                               settings.options.use_loop);
+  const std::string table_md = markdownTable(results, settings);
   std::ostringstream under;
   under << "\n" << (settings.options.sequential ? "Sequential" : "Threaded") << " mode, " << settings.runs
         << (settings.runs == 1 ? " run" : " runs") << " per sequence: median (min-max) over the runs; RPE over 1 s "
