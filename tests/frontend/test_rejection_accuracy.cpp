@@ -33,20 +33,22 @@ bool onPerson(const cv::Mat& ids, const Eigen::Vector2d& uv) {
   return ids.at<uint16_t>(cvRound(uv.y()), cvRound(uv.x())) != 0;
 }
 
+// The dynamic scene's masks replayed (its three walkers are persons), or none.
+std::unique_ptr<Segmenter> testSegmenter(SegmenterKind kind) {
+  if (kind != SegmenterKind::kReplay) return nullptr;
+  SegmenterOptions so;
+  so.kind = kind;
+  so.replay_labels = {{1, 0, "person"}, {2, 0, "person"}, {3, 0, "person"}};
+  return makeSegmenter(so);
+}
+
 // Frames [first, first + count) of the dynamic scene; the first compare_gap frames only
 // prime the filter and are not scored.
 Confusion scoreRejection(SegmenterKind kind, int first, int count) {
   const synth::Scene scene = synth::makeScene(synth::SceneKind::kDynamic);
   const PinholeCamera& camera = scene.camera();
   DynamicFilterOptions o;
-  std::unique_ptr<Segmenter> segmenter;
-  if (kind == SegmenterKind::kReplay) {
-    SegmenterOptions so;
-    so.kind = kind;
-    so.replay_labels = {{1, 0, "person"}, {2, 0, "person"}, {3, 0, "person"}};
-    segmenter = makeSegmenter(so);
-  }
-  DynamicFilter filter(camera, o, std::move(segmenter), false);
+  DynamicFilter filter(camera, o, testSegmenter(kind), false);
   Confusion c;
   for (int i = first; i < first + count; ++i) {
     const synth::RenderedFrame r = synth::render(scene, i);
@@ -120,14 +122,7 @@ int judgedKeypoints(SegmenterKind kind, bool spread_with_masks) {
   const synth::Scene scene = synth::makeScene(synth::SceneKind::kDynamic);
   DynamicFilterOptions o;
   o.spread_with_masks = spread_with_masks;
-  std::unique_ptr<Segmenter> segmenter;
-  if (kind == SegmenterKind::kReplay) {
-    SegmenterOptions so;
-    so.kind = kind;
-    so.replay_labels = {{1, 0, "person"}, {2, 0, "person"}, {3, 0, "person"}};
-    segmenter = makeSegmenter(so);
-  }
-  DynamicFilter filter(scene.camera(), o, std::move(segmenter), false);
+  DynamicFilter filter(scene.camera(), o, testSegmenter(kind), false);
   int judged = 0;
   for (int i = kFirst; i < kFirst + 12; ++i) {
     const RgbdFrame frame = synth::render(scene, i).toRgbdFrame();
