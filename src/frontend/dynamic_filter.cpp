@@ -93,9 +93,12 @@ void DynamicFilter::workerLoop() {
     } catch (const std::exception& e) {
       kLog.warn(str("segmentation of t=", formatSecondsStamp(frame.t_ns), " failed: ", e.what()));
     }
-    std::lock_guard<std::mutex> lock(mutex_);
-    busy_ = false;
-    if (!s.empty()) finished_ = std::make_pair(std::move(s), frame_number);
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      busy_ = false;
+      if (!s.empty()) finished_ = std::make_pair(std::move(s), frame_number);
+    }
+    done_.notify_all();
   }
 }
 
@@ -109,7 +112,16 @@ Segmentation DynamicFilter::latestSegmentation(const RgbdFrame& frame, DynamicFr
       r->segmentation_ms = latest_.ms;
     }
   } else {
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (frame_count_ == 0) {
+      // The first frame waits for its own masks (once, one segmentation long): the map starts
+      // from it, the geometric check has no earlier frame to judge it by, and without masks the
+      // people in view would become the map's first landmarks.
+      pending_ = deepCopy(frame);
+      pending_frame_ = last_request_frame_ = 0;
+      wake_.notify_one();
+      done_.wait(lock, [&] { return finished_.has_value() || (!busy_ && !pending_) || stop_; });
+    }
     if (finished_) {
       latest_ = std::move(finished_->first);
       latest_frame_ = finished_->second;

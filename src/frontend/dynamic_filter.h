@@ -6,8 +6,8 @@
 // points flagged as moving, are removed from the frame's features.
 //
 // Segmentation runs every `segment_every` frames: on its own thread in the threaded
-// pipeline (tracking uses the newest masks that are ready, however old), or inline in
-// sequential mode (deterministic).
+// pipeline (tracking uses the newest masks that are ready, however old; only the first frame
+// waits for its own), or inline in sequential mode (deterministic).
 //
 // Thread safety: process() from one thread (the tracking thread).
 #pragma once
@@ -100,6 +100,7 @@ class DynamicFilter {
   std::thread worker_;
   std::mutex mutex_;
   std::condition_variable wake_;
+  std::condition_variable done_;  // the worker finished a frame
   std::optional<RgbdFrame> pending_;
   int pending_frame_ = -1;
   int last_request_frame_ = -1;  // frame_count_ of the last frame handed to the worker

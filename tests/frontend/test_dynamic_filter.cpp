@@ -119,8 +119,8 @@ TEST(DynamicFilterSchedule, WorkerSegmentsOneFrameAtATimeAndLaterFramesUseItsMas
     if (r[i].segmentation_ms >= 0) {
       have_masks = true;
       EXPECT_EQ(r[i].segmentation_ms, r[i].segmentation.ms);  // the backend's own timing
-      // The masks arrive after the frame they were computed on.
-      EXPECT_GE(r[i].mask_age_frames, 1) << "frame " << i;
+      // Past the first frame, which waits for its own, masks arrive after the frame they were computed on.
+      EXPECT_GE(r[i].mask_age_frames, i == 0 ? 0 : 1) << "frame " << i;
     }
     if (have_masks) {
       EXPECT_GE(r[i].mask_age_frames, 0) << "frame " << i << ": masks must be carried to later frames";
@@ -133,6 +133,29 @@ TEST(DynamicFilterSchedule, WorkerSegmentsOneFrameAtATimeAndLaterFramesUseItsMas
   EXPECT_GE(arrivals, 1);
   // The first frame's masks (two persons in view) come with their instances.
   EXPECT_TRUE(have_masks);
+}
+
+TEST(DynamicFilterSchedule, TheFirstFrameWaitsForItsOwnMasksAndLaterOnesDoNot) {
+  std::atomic<int> calls{0}, concurrent{0};
+  DynamicFilterOptions o;
+  o.segment_every = 1;
+  DynamicFilter filter(frames().camera, o,
+                       std::make_unique<SlowSegmenter>(std::chrono::milliseconds(150), &calls, &concurrent), true);
+  const RgbdFrame first = frames().rendered[0].toRgbdFrame();
+  FrameFeatures f = extractFeatures(first, cv::Mat(), frames().camera, FeatureOptions{});
+  const size_t extracted = f.points.size();
+  const DynamicFrameResult r0 = filter.process(first, &f, std::nullopt);
+  EXPECT_EQ(r0.mask_age_frames, 0) << "the map starts from this frame: it must have its own masks";
+  EXPECT_TRUE(r0.fresh_segmentation);
+  ASSERT_FALSE(r0.segmentation.empty());
+  EXPECT_LT(f.points.size(), extracted) << "the persons' keypoints are removed on the first frame already";
+  // The next frame does not wait: it asks for its own masks and goes on with frame 0's
+  // (age 0 would mean it had waited for them).
+  const RgbdFrame second = frames().rendered[1].toRgbdFrame();
+  FrameFeatures g = extractFeatures(second, cv::Mat(), frames().camera, FeatureOptions{});
+  const DynamicFrameResult r1 = filter.process(second, &g, std::nullopt);
+  EXPECT_EQ(r1.mask_age_frames, 1) << "frame 1 uses frame 0's masks";
+  EXPECT_FALSE(r1.segmentation.empty());
 }
 
 TEST(DynamicFilterSchedule, DestroyingTheFilterWhileTheWorkerIsBusyWaitsForItAndReturns) {
