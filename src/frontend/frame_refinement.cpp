@@ -5,10 +5,10 @@
 
 namespace plslam {
 
-FrameObservations inlierObservations(const FrameFeatures& f, const std::vector<Id>& point_ids,
-                                     const std::vector<Id>& line_ids) {
+FrameObservations matchedObservations(const FrameFeatures& f, const std::vector<Id>& point_ids,
+                                      const std::vector<Id>& line_ids) {
   if (point_ids.size() != f.points.size() || line_ids.size() != f.lines.size())
-    throw DataError(str("frame refinement: ", point_ids.size(), " point matches for ", f.points.size(), " keypoints, ",
+    throw DataError(str("frame observations: ", point_ids.size(), " point matches for ", f.points.size(), " keypoints, ",
                         line_ids.size(), " line matches for ", f.lines.size(), " segments"));
   FrameObservations obs;
   for (size_t i = 0; i < point_ids.size(); ++i) {
@@ -17,6 +17,7 @@ FrameObservations inlierObservations(const FrameFeatures& f, const std::vector<I
     o.uv = f.points[i].uv;
     o.octave = f.points[i].octave;
     o.depth = f.points[i].depth_m;
+    obs.point_index.push_back(static_cast<int>(i));
     obs.point_ids.push_back(point_ids[i]);
     obs.points.push_back(o);
   }
@@ -26,26 +27,46 @@ FrameObservations inlierObservations(const FrameFeatures& f, const std::vector<I
     o.p = f.lines[i].p;
     o.q = f.lines[i].q;
     o.octave = f.lines[i].octave;
+    obs.line_index.push_back(static_cast<int>(i));
     obs.line_ids.push_back(line_ids[i]);
     obs.lines.push_back(o);
   }
   return obs;
 }
 
-PoseOnlyProblem refinementProblem(const Map& map, const FrameObservations& obs, const SE3& T_w_c_init) {
+namespace {
+// Keeps the observations for which `locate` finds the landmark (and sets its world position).
+template <typename Obs, typename Locate>
+void keepLocated(std::vector<int>* index, std::vector<Id>* ids, std::vector<Obs>* obs, Locate locate) {
+  size_t kept = 0;
+  for (size_t i = 0; i < ids->size(); ++i) {
+    if (!locate((*ids)[i], &(*obs)[i])) continue;
+    (*index)[kept] = (*index)[i];
+    (*ids)[kept] = (*ids)[i];
+    (*obs)[kept] = (*obs)[i];
+    ++kept;
+  }
+  index->resize(kept);
+  ids->resize(kept);
+  obs->resize(kept);
+}
+}  // namespace
+
+PoseOnlyProblem poseProblem(const Map& map, FrameObservations* obs, const SE3& T_w_c_init) {
+  keepLocated(&obs->point_index, &obs->point_ids, &obs->points, [&](Id id, PointObs* o) {
+    const MapPoint* p = map.point(id);
+    if (p) o->p_w = p->p_w;
+    return p != nullptr;
+  });
+  keepLocated(&obs->line_index, &obs->line_ids, &obs->lines, [&](Id id, LineObs* o) {
+    const MapLine* l = map.line(id);
+    if (l) o->P_w = l->P_w, o->Q_w = l->Q_w;
+    return l != nullptr;
+  });
   PoseOnlyProblem problem;
   problem.T_w_c_init = T_w_c_init;
-  for (size_t i = 0; i < obs.point_ids.size(); ++i)
-    if (const MapPoint* p = map.point(obs.point_ids[i])) {
-      problem.points.push_back(obs.points[i]);
-      problem.points.back().p_w = p->p_w;
-    }
-  for (size_t i = 0; i < obs.line_ids.size(); ++i)
-    if (const MapLine* l = map.line(obs.line_ids[i])) {
-      problem.lines.push_back(obs.lines[i]);
-      problem.lines.back().P_w = l->P_w;
-      problem.lines.back().Q_w = l->Q_w;
-    }
+  problem.points = obs->points;
+  problem.lines = obs->lines;
   return problem;
 }
 

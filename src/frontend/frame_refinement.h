@@ -1,4 +1,6 @@
-// Re-estimating a tracked frame's pose once the map around it has settled.
+// A frame's matched observations and the pose-only problem built from them: the tracker
+// builds its problems this way, and so does the re-estimation of a tracked frame's pose
+// once the map around it has settled.
 //
 // A frame is tracked against landmarks as they are at that moment: the newest keyframe's
 // points come straight from one depth image, before local BA has seen them. The frame keeps
@@ -22,11 +24,13 @@
 
 namespace plslam {
 
-/// A tracked frame's inlier matches: the landmark of each observation, and what was seen
-/// (the world positions in `points` / `lines` are filled in at refinement).
+/// A frame's matches: the keypoint / segment and the landmark of each observation, and what
+/// was seen (the world positions in `points` / `lines` are filled in by poseProblem).
 struct FrameObservations {
+  std::vector<int> point_index;  ///< the keypoint of each point observation
   std::vector<Id> point_ids;
   std::vector<PointObs> points;
+  std::vector<int> line_index;   ///< the segment of each line observation
   std::vector<Id> line_ids;
   std::vector<LineObs> lines;
   bool empty() const { return point_ids.empty() && line_ids.empty(); }
@@ -34,13 +38,14 @@ struct FrameObservations {
 
 /// The observations of `f` whose keypoint / segment matched a landmark (`point_ids` per
 /// keypoint, `line_ids` per segment, kNoId: none). Throws DataError when the sizes differ.
-FrameObservations inlierObservations(const FrameFeatures& f, const std::vector<Id>& point_ids,
-                                     const std::vector<Id>& line_ids);
+FrameObservations matchedObservations(const FrameFeatures& f, const std::vector<Id>& point_ids,
+                                      const std::vector<Id>& line_ids);
 
-/// The pose-only problem of a frame with observations `obs` against the landmarks of `map`
-/// as they are now (landmarks culled since are left out), starting from `T_w_c_init`. The
-/// caller holds map.mutex(); the solve needs no lock.
-PoseOnlyProblem refinementProblem(const Map& map, const FrameObservations& obs, const SE3& T_w_c_init);
+/// The pose-only problem of the observations `obs` against the landmarks of `map` as they
+/// are now, starting from `T_w_c_init`. Observations whose landmark is gone (culled) are
+/// dropped from `obs`, so that problem.points[k] is obs->points[k] (lines alike). The caller
+/// holds map.mutex(); the solve needs no lock.
+PoseOnlyProblem poseProblem(const Map& map, FrameObservations* obs, const SE3& T_w_c_init);
 
 /// The solution of `problem`; none when fewer than `min_inliers` observations remain inliers
 /// or the optimiser fails (the frame keeps its tracked pose).

@@ -7,6 +7,7 @@
 
 #include "core/log.h"
 #include "features/matching.h"
+#include "frontend/frame_refinement.h"
 
 namespace plslam {
 
@@ -276,50 +277,20 @@ void Tracker::searchLocalMap(const SE3& T_w_c, const FrameFeatures& f, double ra
 }
 
 PoseOnlyResult Tracker::optimise(const SE3& T_w_c, const FrameFeatures& f, Matches* m) const {
+  FrameObservations obs = matchedObservations(f, m->point_ids, m->line_ids);
   PoseOnlyProblem problem;
-  problem.T_w_c_init = T_w_c;
-  std::vector<int> point_index, line_index;
   {
     std::lock_guard<std::mutex> lock(map_->mutex());
-    for (size_t i = 0; i < m->point_ids.size(); ++i) {
-      if (m->point_ids[i] == kNoId) continue;
-      const MapPoint* p = map_->point(m->point_ids[i]);
-      if (!p) {
-        m->point_ids[i] = kNoId;  // culled by the mapper meanwhile
-        continue;
-      }
-      PointObs o;
-      o.p_w = p->p_w;
-      o.uv = f.points[i].uv;
-      o.octave = f.points[i].octave;
-      o.depth = f.points[i].depth_m;
-      problem.points.push_back(o);
-      point_index.push_back(static_cast<int>(i));
-    }
-    for (size_t i = 0; i < m->line_ids.size(); ++i) {
-      if (m->line_ids[i] == kNoId) continue;
-      const MapLine* l = map_->line(m->line_ids[i]);
-      if (!l) {
-        m->line_ids[i] = kNoId;
-        continue;
-      }
-      LineObs o;
-      o.P_w = l->P_w;
-      o.Q_w = l->Q_w;
-      o.p = f.lines[i].p;
-      o.q = f.lines[i].q;
-      o.octave = f.lines[i].octave;
-      problem.lines.push_back(o);
-      line_index.push_back(static_cast<int>(i));
-    }
+    problem = poseProblem(*map_, &obs, T_w_c);  // landmarks culled by the mapper meanwhile drop out
   }
-  PoseOnlyResult r = optimizer_.optimize(camera_, problem);
-  if (r.converged) {
-    for (size_t k = 0; k < point_index.size(); ++k)
-      if (!r.point_inlier[k]) m->point_ids[point_index[k]] = kNoId;
-    for (size_t k = 0; k < line_index.size(); ++k)
-      if (!r.line_inlier[k]) m->line_ids[line_index[k]] = kNoId;
-  }
+  const PoseOnlyResult r = optimizer_.optimize(camera_, problem);
+  // What stays matched: the inliers (every landmark still there when it did not converge).
+  m->point_ids.assign(f.points.size(), kNoId);
+  m->line_ids.assign(f.lines.size(), kNoId);
+  for (size_t k = 0; k < obs.point_ids.size(); ++k)
+    if (!r.converged || r.point_inlier[k]) m->point_ids[obs.point_index[k]] = obs.point_ids[k];
+  for (size_t k = 0; k < obs.line_ids.size(); ++k)
+    if (!r.converged || r.line_inlier[k]) m->line_ids[obs.line_index[k]] = obs.line_ids[k];
   return r;
 }
 

@@ -126,7 +126,7 @@ TrackingResult System::feed(const RgbdFrame& frame, const cv::Mat& mask) {
     rec.T_ref_c = map_.keyframe(r.reference_keyframe)->T_w_c.inverse() * r.T_w_c;
   }
   rec.keyframes_before = keyframes_made_;
-  if (options_.refine_frames && !r.point_matches.empty()) rec.observations = inlierObservations(f, r.point_matches, r.line_matches);
+  if (options_.refine_frames && !r.point_matches.empty()) rec.observations = matchedObservations(f, r.point_matches, r.line_matches);
   records_.push_back(std::move(rec));
   tracking.unlock();
   keyframes_made_ += r.new_keyframe;
@@ -170,7 +170,7 @@ void System::refineSettledFrames(int after_keyframes, int after_frames, size_t m
       std::lock_guard<std::mutex> lock(map_.mutex());
       if (const KeyFrame* kf = map_.keyframe(rec.reference_keyframe)) {
         T_w_ref = kf->T_w_c;
-        problem = refinementProblem(map_, rec.observations, *T_w_ref * rec.T_ref_c);
+        problem = poseProblem(map_, &rec.observations, *T_w_ref * rec.T_ref_c);
       }
     }
     rec.observations = FrameObservations();

@@ -7,19 +7,10 @@
 
 #include "core/error.h"
 #include "frontend/frame_refinement.h"
+#include "synth/scene.h"
 
 namespace plslam {
 namespace {
-
-PinholeCamera testCamera() {
-  PinholeCamera c;
-  c.width = 640;
-  c.height = 480;
-  c.fx = c.fy = 525;
-  c.cx = 319.5;
-  c.cy = 239.5;
-  return c;
-}
 
 // A map of `n` points 1-4 m in front of the camera at `T_w_c`, and the frame's exact
 // observation of each (keypoint i matched to point i).
@@ -57,11 +48,11 @@ SE3 perturbed(const SE3& T) {
 }
 
 TEST(FrameRefinement, SettledLandmarksGiveBackTheTruePoseFromAWrongStart) {
-  const PinholeCamera camera = testCamera();
+  const PinholeCamera camera = synth::syntheticCamera(640, 480);
   Scene s = makeScene(camera, kTruth, 80);
-  const FrameObservations obs = inlierObservations(s.features, s.point_ids, {});
+  FrameObservations obs = matchedObservations(s.features, s.point_ids, {});
   ASSERT_EQ(obs.point_ids.size(), 80u);
-  const PoseOnlyProblem problem = refinementProblem(s.map, obs, perturbed(kTruth));
+  const PoseOnlyProblem problem = poseProblem(s.map, &obs, perturbed(kTruth));
   ASSERT_EQ(problem.points.size(), 80u);
   const auto T = solveRefinement(camera, PoseOptimizer(), problem, 20);
   ASSERT_TRUE(T.has_value());
@@ -71,26 +62,32 @@ TEST(FrameRefinement, SettledLandmarksGiveBackTheTruePoseFromAWrongStart) {
 }
 
 TEST(FrameRefinement, UnmatchedKeypointsAndCulledLandmarksAreLeftOut) {
-  const PinholeCamera camera = testCamera();
+  const PinholeCamera camera = synth::syntheticCamera(640, 480);
   Scene s = makeScene(camera, kTruth, 40);
   std::vector<Id> matches = s.point_ids;
   for (size_t i = 0; i < matches.size(); i += 4) matches[i] = kNoId;  // 10 keypoints not matched
-  const FrameObservations obs = inlierObservations(s.features, matches, {});
+  FrameObservations obs = matchedObservations(s.features, matches, {});
   EXPECT_EQ(obs.point_ids.size(), 30u);
   for (size_t i = 1; i < 20; i += 2) s.map.erasePoint(s.point_ids[i]);  // culled after tracking: 10 matched ones
-  const PoseOnlyProblem problem = refinementProblem(s.map, obs, kTruth);
+  const PoseOnlyProblem problem = poseProblem(s.map, &obs, kTruth);
   EXPECT_EQ(problem.points.size(), 20u);
+  // What stays lines up with the problem: the same keypoints and landmarks, in order.
+  ASSERT_EQ(obs.point_ids.size(), 20u);
+  for (size_t k = 0; k < obs.point_ids.size(); ++k) {
+    EXPECT_EQ(obs.point_ids[k], s.point_ids[obs.point_index[k]]);
+    EXPECT_EQ(problem.points[k].p_w, s.map.point(obs.point_ids[k])->p_w);
+  }
   // Too few left: the frame keeps its tracked pose.
   EXPECT_FALSE(solveRefinement(camera, PoseOptimizer(), problem, 21).has_value());
   EXPECT_TRUE(solveRefinement(camera, PoseOptimizer(), problem, 20).has_value());
 }
 
 TEST(FrameRefinement, MatchListsOfTheWrongSizeAreRefused) {
-  const PinholeCamera camera = testCamera();
+  const PinholeCamera camera = synth::syntheticCamera(640, 480);
   Scene s = makeScene(camera, kTruth, 10);
   std::vector<Id> short_list(s.point_ids.begin(), s.point_ids.end() - 1);
-  EXPECT_THROW(inlierObservations(s.features, short_list, {}), DataError);
-  EXPECT_THROW(inlierObservations(s.features, s.point_ids, {kNoId}), DataError);
+  EXPECT_THROW(matchedObservations(s.features, short_list, {}), DataError);
+  EXPECT_THROW(matchedObservations(s.features, s.point_ids, {kNoId}), DataError);
 }
 
 }  // namespace
