@@ -113,21 +113,6 @@ Segmentation DynamicFilter::latestSegmentation(const RgbdFrame& frame, DynamicFr
     }
   } else {
     std::unique_lock<std::mutex> lock(mutex_);
-    if (frame_count_ == 0) {
-      // The first frame waits for its own masks (once, one segmentation long): the map starts
-      // from it, the geometric check has no earlier frame to judge it by, and without masks the
-      // people in view would become the map's first landmarks.
-      pending_ = deepCopy(frame);
-      pending_frame_ = last_request_frame_ = 0;
-      wake_.notify_one();
-      done_.wait(lock, [&] { return finished_.has_value() || (!busy_ && !pending_) || stop_; });
-    }
-    if (finished_) {
-      latest_ = std::move(finished_->first);
-      latest_frame_ = finished_->second;
-      finished_.reset();
-      r->segmentation_ms = latest_.ms;
-    }
     // Ask as soon as the worker is idle and `every` frames have passed since the last
     // request: waiting for the next multiple of `every` would add up to every-1 frames of age.
     const bool waited = last_request_frame_ < 0 || frame_count_ - last_request_frame_ >= every;
@@ -136,6 +121,17 @@ Segmentation DynamicFilter::latestSegmentation(const RgbdFrame& frame, DynamicFr
       pending_frame_ = frame_count_;
       last_request_frame_ = frame_count_;
       wake_.notify_one();
+    }
+    // The first frame waits for its own masks (once, one segmentation long): the map starts
+    // from it, the geometric check has no earlier frame to judge it by, and without masks the
+    // people in view would become the map's first landmarks.
+    if (frame_count_ == 0)
+      done_.wait(lock, [&] { return finished_.has_value() || (!busy_ && !pending_) || stop_; });
+    if (finished_) {
+      latest_ = std::move(finished_->first);
+      latest_frame_ = finished_->second;
+      finished_.reset();
+      r->segmentation_ms = latest_.ms;
     }
   }
   if (latest_frame_ >= 0) {
