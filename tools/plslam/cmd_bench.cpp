@@ -202,8 +202,7 @@ SystemOptions rowOptions(const BenchSettings& settings, const SequenceSpec& spec
   if (!settings.masks || !o.dynamic.enabled) return o;
   if (spec.kind == "synthetic") {
     o.segmenter.kind = SegmenterKind::kReplay;
-    for (const InstanceLabel& l : dataset.instanceLabels())
-      o.segmenter.replay_labels.push_back({l.instance_id, l.class_id, l.class_name});
+    o.segmenter.replay_labels = replayLabels(dataset);
   } else {
     o.segmenter.kind = SegmenterKind::kYolo;
     o.segmenter.yolo.model_path = settings.model;

@@ -38,6 +38,7 @@
 #include "frontend/feature_extraction.h"
 #include "io/dataset.h"
 #include "loop/loop_closer.h"
+#include "run_session.h"
 
 namespace plslam::cli {
 
@@ -148,7 +149,7 @@ int runEvalLoops(int argc, char** argv) {
   const std::string seg = args.str("segmenter");
   if (seg == "none" || seg == "replay") so.kind = parseSegmenterKind(seg);
   else so.kind = SegmenterKind::kYolo, so.yolo.model_path = seg;
-  for (const InstanceLabel& l : dataset.instanceLabels()) so.replay_labels.push_back({l.instance_id, l.class_id, l.class_name});
+  so.replay_labels = replayLabels(dataset);
   std::unique_ptr<Segmenter> segmenter = makeSegmenter(so);
 
   FeatureOptions fo;

@@ -108,8 +108,7 @@ int runRun(int argc, char** argv) {
     if (dataset.instanceLabels().empty() && dataset.listReport().masks_listed == 0)
       throw ConfigError("plslam run: --segmenter replay needs a folder with masks.txt (plslam synth writes one): " +
                         dataset.dir());
-    for (const InstanceLabel& l : dataset.instanceLabels())
-      options.segmenter.replay_labels.push_back({l.instance_id, l.class_id, l.class_name});
+    options.segmenter.replay_labels = replayLabels(dataset);
   }
   const std::string out = args.str("out");
   // Refuse an unusable output folder before the run, not after it.

@@ -31,6 +31,12 @@ void loadRunConfig(const std::string& config_path, SystemOptions* options, Optio
   if (!config_path.empty()) table->apply(parseYamlSubset(readTextFile(config_path), config_path), config_path);
 }
 
+std::vector<InstanceClass> replayLabels(const TumDataset& dataset) {
+  std::vector<InstanceClass> out;
+  for (const InstanceLabel& l : dataset.instanceLabels()) out.push_back({l.instance_id, l.class_id, l.class_name});
+  return out;
+}
+
 SigintGuard::SigintGuard() {
   g_interrupted = false;
   previous_ = std::signal(SIGINT, onSigint);

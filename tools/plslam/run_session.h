@@ -1,4 +1,4 @@
-// Pieces shared by `plslam run` and `plslam bench`: the run configuration, feeding a
+// Pieces shared by `plslam run` and `plslam bench` (and `eval loops`): the run configuration, feeding a
 // recorded folder to a System (progress callback, Ctrl-C), and the evaluation of the
 // resulting trajectory against the folder's ground truth.
 #pragma once
@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "core/json.h"
 #include "core/option_table.h"
@@ -21,6 +22,9 @@ std::string readTextFile(const std::string& path);
 
 /// Binds `options` into `table` and applies the YAML file `config_path` (none when empty).
 void loadRunConfig(const std::string& config_path, SystemOptions* options, OptionTable* table);
+
+/// The classes of the instance ids in `dataset`'s masks (masks.txt), for the replay segmenter.
+std::vector<InstanceClass> replayLabels(const TumDataset& dataset);
 
 
 /// While an instance lives, Ctrl-C sets interrupted() instead of ending the process; the
