@@ -67,6 +67,9 @@ System::System(PinholeCamera camera, SystemOptions options) : System(std::move(c
 
 System::System(PinholeCamera camera, SystemOptions options, Map map)
     : camera_(std::move(camera)), options_(std::move(options)), map_(std::move(map)) {
+  if (options_.refine_after_keyframes < 0 || options_.refine_after_frames < 0)
+    throw ConfigError(str("system.refine_after_keyframes and system.refine_after_frames must be >= 0 (got ",
+                          options_.refine_after_keyframes, " and ", options_.refine_after_frames, ")"));
   options_.tracker.use_lines = options_.use_lines;
   options_.mapper.use_lines = options_.use_lines;
   options_.features.use_lines = options_.use_lines;

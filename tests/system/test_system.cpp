@@ -74,6 +74,18 @@ TEST(SystemSynthetic, FrameRefinementBringsTheTrajectoryCloserToTheTruth) {
   EXPECT_LT(b.ate, a.ate);
 }
 
+TEST(SystemSynthetic, ANegativeRefinementDelayIsAConfigError) {
+  const PinholeCamera camera = synth::syntheticCamera(640, 480);
+  SystemOptions o = sequential();
+  o.refine_after_frames = -1;
+  EXPECT_THROW(System(camera, o), ConfigError);
+  o.refine_after_frames = 300;
+  o.refine_after_keyframes = -2;
+  EXPECT_THROW(System(camera, o), ConfigError);
+  o.refine_after_keyframes = 0;  // refine as soon as possible: allowed
+  EXPECT_NO_THROW(System(camera, o));
+}
+
 TEST(SystemSynthetic, ThreadedModeTracksAndFinishes) {
   const std::string dir = test::syntheticSequence(synth::SceneKind::kStatic, 120);
   const PinholeCamera camera = loadCameraFile(dir + "/camera.xml");
