@@ -236,6 +236,13 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
   std::tie(r.points_rejected, r.lines_rejected) =
       removeDynamicFeatures(f, fused.mask, point_dynamic, options_.line_masked_fraction);
   r.filter_ms = msSince(t0);
+  if (kLog.enabled(LogLevel::kDebug))
+    kLog.debug(str("frame ", frame_count_ - 1, ": ", f->points.size() + r.points_rejected, " points, ", corr.size(),
+                   " matched ", gap, " frames back (", motion.with_depth, " with depth), motion ",
+                   motionCheckStatusName(motion.status), " inliers ", motion.inliers, " moving ", motion.movingCount(),
+                   motion.prior_used ? " prior" : "", motion.prior_won ? " prior_won" : "",
+                   motion.prior_rejected ? " prior_rejected" : "", "; rejected ", r.points_rejected, " points, ",
+                   r.lines_rejected, " lines"));
   return r;
 }
 
