@@ -17,6 +17,7 @@ Map& Map::operator=(Map&& other) noexcept {
   next_keyframe_id_ = other.next_keyframe_id_;
   next_point_id_ = other.next_point_id_;
   next_line_id_ = other.next_line_id_;
+  corrections_ = other.corrections_;
   other.keyframes_.clear();
   other.points_.clear();
   other.lines_.clear();

@@ -139,6 +139,11 @@ class Map {
   const MapPoint* point(Id id) const;
   const MapLine* line(Id id) const;
 
+  /// Counts corrections of the whole map (loop closure). A stage that solved on a snapshot
+  /// taken before a correction must not write its absolute result back over it.
+  void noteCorrection() { ++corrections_; }
+  uint64_t corrections() const { return corrections_; }
+
   /// Keyframes sharing at least `min_shared` map points with `kf`, most shared first.
   std::vector<std::pair<Id, int>> covisible(Id kf, int min_shared = 1) const;
 
@@ -148,6 +153,7 @@ class Map {
   std::map<Id, MapPoint> points_;
   std::map<Id, MapLine> lines_;
   Id next_keyframe_id_ = 0, next_point_id_ = 0, next_line_id_ = 0;
+  uint64_t corrections_ = 0;
 };
 
 }  // namespace plslam

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/line_descriptor.hpp>
+#include <opencv2/ximgproc/fast_line_detector.hpp>
 
 #include "core/error.h"
 #include "core/log.h"
@@ -13,6 +14,10 @@ namespace plslam {
 
 void LineOptions::validate() const {
   auto fail = [](const std::string& m) { throw ConfigError("features.lines: " + m); };
+  if (detector != "lsd" && detector != "fld") fail("detector '" + detector + "' must be lsd or fld");
+  if (fld_min_length_px < 1 || fld_min_length_px > 10000) fail(str("fld_min_length_px ", fld_min_length_px, " must be in 1..10000"));
+  if (!(fld_canny_low >= 0 && fld_canny_high >= fld_canny_low && fld_canny_high <= 1000))
+    fail(str("fld_canny_low ", fld_canny_low, " and fld_canny_high ", fld_canny_high, " must satisfy 0 <= low <= high <= 1000"));
   if (!(detect_scale > 0 && detect_scale <= 1)) fail(str("detect_scale ", detect_scale, " must be in (0, 1]"));
   if (!(lsd_quant > 0 && lsd_quant <= 50)) fail(str("lsd_quant ", lsd_quant, " must be in (0, 50]"));
   if (!(merge_angle_deg >= 0 && merge_angle_deg < 45)) fail(str("merge_angle_deg ", merge_angle_deg, " must be in [0, 45)"));
@@ -137,7 +142,46 @@ bool clipSegmentToMask(const cv::Mat& mask, LineSegment2D* s) {
   return true;
 }
 
-std::vector<LineSegment2D> detectLines(const cv::Mat& image, const cv::Mat& mask, const LineOptions& o, LineStats* stats) {
+namespace {
+
+// A detector's segment found on the image scaled by `scale` (pixel centres: x_small =
+// (x + 0.5) * scale - 0.5, as cv::resize samples), in full-image pixels.
+LineSegment2D fromScaled(const cv::Vec4f& r, double scale) {
+  auto full = [scale](float x, float y) { return Eigen::Vector2d((x + 0.5) / scale - 0.5, (y + 0.5) / scale - 0.5); };
+  return LineSegment2D::fromEndpoints(full(r[0], r[1]), full(r[2], r[3]));
+}
+
+std::vector<LineSegment2D> detectLsd(const cv::Mat& grey, const LineOptions& o) {
+  std::vector<cv::Vec4f> raw;
+  cv::createLineSegmentDetector(o.lsd_refine ? cv::LSD_REFINE_STD : cv::LSD_REFINE_NONE, o.detect_scale, 0.6, o.lsd_quant)
+      ->detect(grey, raw);
+  // OpenCV's LSD scales its result back by x / scale itself, but it samples the image with
+  // cv::resize: only the half-pixel shift of the pixel centres is left to undo.
+  std::vector<LineSegment2D> segs;
+  segs.reserve(raw.size());
+  const double shift = 0.5 / o.detect_scale - 0.5;
+  for (const cv::Vec4f& r : raw)
+    segs.push_back(LineSegment2D::fromEndpoints(Eigen::Vector2d(r[0] + shift, r[1] + shift),
+                                                Eigen::Vector2d(r[2] + shift, r[3] + shift)));
+  return segs;
+}
+
+std::vector<LineSegment2D> detectFld(const cv::Mat& grey, const LineOptions& o) {
+  cv::Mat small = grey;
+  if (o.detect_scale < 1) cv::resize(grey, small, cv::Size(), o.detect_scale, o.detect_scale, cv::INTER_AREA);
+  std::vector<cv::Vec4f> raw;
+  cv::ximgproc::createFastLineDetector(o.fld_min_length_px, 1.414213562f, o.fld_canny_low, o.fld_canny_high, 3, false)
+      ->detect(small, raw);
+  std::vector<LineSegment2D> segs;
+  segs.reserve(raw.size());
+  for (const cv::Vec4f& r : raw) segs.push_back(fromScaled(r, o.detect_scale));
+  return segs;
+}
+
+}  // namespace
+
+std::vector<LineSegment2D> detectLines(const cv::Mat& image, const cv::Mat& mask, const LineOptions& o, LineStats* stats,
+                                       StageTimes* times) {
   o.validate();
   LineStats st;
   std::vector<LineSegment2D> segs;
@@ -148,17 +192,12 @@ std::vector<LineSegment2D> detectLines(const cv::Mat& image, const cv::Mat& mask
     if (stats) *stats = st;
     return segs;
   }
-  std::vector<cv::Vec4f> raw;
-  cv::createLineSegmentDetector(o.lsd_refine ? cv::LSD_REFINE_STD : cv::LSD_REFINE_NONE, o.detect_scale, 0.6, o.lsd_quant)
-      ->detect(grey, raw);
-  st.detected = static_cast<int>(raw.size());
-  segs.reserve(raw.size());
-  // OpenCV's LSD scales its result back by x / scale, but it samples the image with
-  // cv::resize (pixel centres: x_small = (x + 0.5) * scale - 0.5): undo that half-pixel shift.
-  const double shift = 0.5 / o.detect_scale - 0.5;
-  for (const cv::Vec4f& r : raw)
-    segs.push_back(LineSegment2D::fromEndpoints(Eigen::Vector2d(r[0] + shift, r[1] + shift),
-                                                Eigen::Vector2d(r[2] + shift, r[3] + shift)));
+  {
+    const StageTimer timer(times, Stage::kLsd);
+    segs = o.detector == "fld" ? detectFld(grey, o) : detectLsd(grey, o);
+  }
+  const StageTimer merge_timer(times, Stage::kLineMerge);
+  st.detected = static_cast<int>(segs.size());
 
   segs = mergeSegments(std::move(segs), o);
   st.merged = static_cast<int>(segs.size());

@@ -8,14 +8,24 @@
 
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
+#include <string>
 #include <vector>
+
+#include "core/profile.h"
 
 namespace plslam {
 
 struct LineOptions {
-  double detect_scale = 0.5;       ///< LSD runs on the image scaled by this, in (0, 1] (0.5: ~3x faster, coarser endpoints)
+  /// Segment detector: "lsd" (OpenCV's LSD) or "fld" (opencv_contrib's FastLineDetector on
+  /// Canny edges, without its own merge: the merge below does that). Both give segments with
+  /// the brighter side on the left, which the LBD descriptor and the merge rely on.
+  std::string detector = "lsd";
+  double detect_scale = 0.5;       ///< the detector runs on the image scaled by this, in (0, 1] (0.5: ~3x faster, coarser endpoints)
   double lsd_quant = 2.0;          ///< LSD gradient quantisation bound; larger ignores weaker edges (and runs faster)
   bool lsd_refine = false;         ///< LSD's own refinement (LSD_REFINE_STD); slower, the merge step does most of its job
+  int fld_min_length_px = 10;      ///< FLD drops segments shorter than this (pixels of the scaled image)
+  double fld_canny_low = 50;       ///< FLD's Canny hysteresis thresholds
+  double fld_canny_high = 50;
   double merge_angle_deg = 3.0;    ///< fragments whose directions differ by less than this...
   double merge_distance_px = 2.0;  ///< ...whose endpoints lie this close to the other's line...
   double merge_gap_px = 12.0;      ///< ...and that are at most this far apart along it are joined
@@ -42,19 +52,20 @@ struct LineSegment2D {
 
 /// How many segments each stage left, for the run statistics.
 struct LineStats {
-  int detected = 0;     ///< raw LSD segments
+  int detected = 0;     ///< raw detector segments
   int merged = 0;       ///< after merging fragments
   int unmasked = 0;     ///< after dropping (or clipping) what lies on forbidden pixels
   int long_enough = 0;  ///< after the length filter
   int kept = 0;         ///< after the cap (= the number returned)
 };
 
-/// LSD + merge + mask + length filter + cap, longest first. `image`: CV_8UC1/3/4.
+/// Detector (LSD or FLD) + merge + mask + length filter + cap, longest first. `image`: CV_8UC1/3/4.
 /// `mask`: empty or CV_8UC1 of the image size, 0 = forbidden: a segment keeps only its
 /// longest stretch of allowed pixels (sampled every pixel), dropped when none.
 /// Empty or tiny images give no segments. Throws DataError / ConfigError like extractOrb.
+/// `times` (optional) gets the kLsd and kLineMerge stages.
 std::vector<LineSegment2D> detectLines(const cv::Mat& image, const cv::Mat& mask, const LineOptions& options,
-                                       LineStats* stats = nullptr);
+                                       LineStats* stats = nullptr, StageTimes* times = nullptr);
 
 /// Joins collinear fragments, iterating until nothing changes: same direction within
 /// merge_angle_deg (the same polarity), the shorter one's endpoints within merge_distance_px

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <queue>
 #include <tuple>
 
@@ -208,7 +209,7 @@ std::vector<Candidate> detectLevel(const cv::Mat& img, const cv::Mat& mask, floa
 }  // namespace
 
 void extractOrb(const cv::Mat& image, const cv::Mat& mask, const OrbOptions& o, std::vector<cv::KeyPoint>* keypoints,
-                cv::Mat* descriptors) {
+                cv::Mat* descriptors, StageTimes* times) {
   o.validate();
   keypoints->clear();
   *descriptors = cv::Mat(0, 32, CV_8U);
@@ -231,6 +232,7 @@ void extractOrb(const cv::Mat& image, const cv::Mat& mask, const OrbOptions& o, 
     wanted.back() = std::max(0, o.num_features - sum);
   }
 
+  std::optional<StageTimer> detect_timer(std::in_place, times, Stage::kOrbDetect);
   cv::Mat level = grey;
   int carry = 0;  // what a level could not provide goes to the next one
   for (size_t l = 0; l < scales.size(); ++l) {
@@ -255,8 +257,10 @@ void extractOrb(const cv::Mat& image, const cv::Mat& mask, const OrbOptions& o, 
       keypoints->push_back(kp);
     }
   }
+  detect_timer.reset();
   if (keypoints->empty()) return;
 
+  const StageTimer describe_timer(times, Stage::kOrbDescribe);
   // Descriptors with OpenCV's learned rBRIEF pattern on its own (identically built) pyramid;
   // provided keypoints keep their angle. Their border distance means none is dropped.
   const size_t n = keypoints->size();

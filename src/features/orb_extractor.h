@@ -12,6 +12,8 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
+#include "core/profile.h"
+
 namespace plslam {
 
 struct OrbOptions {
@@ -39,9 +41,9 @@ constexpr int kOrbEdge = 16;
 /// Descriptors: CV_8U, one 32-byte row per keypoint (0 rows when there are none).
 /// An empty, tiny or textureless image gives no keypoints.
 /// Throws DataError for an unsupported image type or a mask of the wrong size or type,
-/// ConfigError for invalid options.
+/// ConfigError for invalid options. `times` (optional) gets the kOrbDetect and kOrbDescribe stages.
 void extractOrb(const cv::Mat& image, const cv::Mat& mask, const OrbOptions& options, std::vector<cv::KeyPoint>* keypoints,
-                cv::Mat* descriptors);
+                cv::Mat* descriptors, StageTimes* times = nullptr);
 
 /// scale_factor^level for level 0..num_levels-1: level pixels times this = level-0 pixels.
 std::vector<float> orbLevelScales(const OrbOptions& options);

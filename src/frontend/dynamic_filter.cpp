@@ -21,40 +21,50 @@ bool dynamicAt(const cv::Mat& mask, const Eigen::Vector2d& uv) {
 }
 }  // namespace
 
-std::pair<int, int> removeDynamicFeatures(FrameFeatures* f, const cv::Mat& mask, const std::vector<uint8_t>& point_dynamic,
-                                          double line_fraction) {
+int removeDynamicPoints(FrameFeatures* f, const cv::Mat& mask, const std::vector<uint8_t>& point_dynamic) {
   std::vector<Keypoint> points;
   cv::Mat point_desc(0, 32, CV_8U);
-  int removed_points = 0, removed_lines = 0;
+  int removed = 0;
   for (size_t i = 0; i < f->points.size(); ++i) {
     const bool flagged = i < point_dynamic.size() && point_dynamic[i];
     if (flagged || (!mask.empty() && dynamicAt(mask, f->points[i].uv_raw))) {
-      ++removed_points;
+      ++removed;
       continue;
     }
     points.push_back(f->points[i]);
     point_desc.push_back(f->point_descriptors.row(static_cast<int>(i)));
   }
+  f->points = std::move(points);
+  f->point_descriptors = point_desc;
+  return removed;
+}
+
+int removeDynamicLines(FrameFeatures* f, const cv::Mat& mask, double line_fraction) {
+  if (mask.empty()) return 0;
   std::vector<Segment2D> lines;
   cv::Mat line_desc(0, 32, CV_8U);
+  int removed = 0;
   for (size_t i = 0; i < f->lines.size(); ++i) {
     const Segment2D& s = f->lines[i];
     int on_dynamic = 0;
     const int samples = 11;
-    for (int k = 0; k < samples && !mask.empty(); ++k)
+    for (int k = 0; k < samples; ++k)
       on_dynamic += dynamicAt(mask, s.p_raw + (s.q_raw - s.p_raw) * (k / double(samples - 1)));
     if (on_dynamic > line_fraction * samples) {
-      ++removed_lines;
+      ++removed;
       continue;
     }
     lines.push_back(s);
     line_desc.push_back(f->line_descriptors.row(static_cast<int>(i)));
   }
-  f->points = std::move(points);
-  f->point_descriptors = point_desc;
   f->lines = std::move(lines);
   f->line_descriptors = line_desc;
-  return {removed_points, removed_lines};
+  return removed;
+}
+
+void DynamicFilter::removeLines(FrameFeatures* f, DynamicFrameResult* r) const {
+  if (!options_.enabled) return;
+  r->lines_rejected += removeDynamicLines(f, r->mask, options_.line_masked_fraction);
 }
 
 DynamicFilter::DynamicFilter(PinholeCamera camera, DynamicFilterOptions options, std::unique_ptr<Segmenter> segmenter,
@@ -179,7 +189,7 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
       corr_keypoint.push_back(m.train);
     }
   }
-  previous_.push_back(*f);
+  previous_.push_back(FrameFeatures{f->points, f->point_descriptors, {}, cv::Mat()});  // the check uses keypoints only
   while (static_cast<int>(previous_.size()) > std::max(1, options_.compare_gap)) previous_.pop_front();
 
   std::optional<SE3> prior;
@@ -233,8 +243,8 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
     if (i < fused.feature_dynamic.size() && fused.feature_dynamic[i]) point_dynamic[corr_keypoint[i]] = 1;
   for (size_t k = 0; k < point_dynamic.size(); ++k)  // unmatched keypoints their neighbours found moving
     if (checked_motion[k] < 0 && r.point_motion[k] == 1) point_dynamic[k] = 1;
-  std::tie(r.points_rejected, r.lines_rejected) =
-      removeDynamicFeatures(f, fused.mask, point_dynamic, options_.line_masked_fraction);
+  r.points_rejected = removeDynamicPoints(f, fused.mask, point_dynamic);
+  r.lines_rejected = removeDynamicLines(f, fused.mask, options_.line_masked_fraction);
   r.filter_ms = msSince(t0);
   if (kLog.enabled(LogLevel::kDebug))
     kLog.debug(str("frame ", frame_count_ - 1, ": ", f->points.size() + r.points_rejected, " points, ", corr.size(),

@@ -80,8 +80,13 @@ class DynamicFilter {
 
   /// Filters `features` (extracted from `frame`) in place. `prior_T_cur_prev` is the
   /// tracker's predicted motion since the previous frame, when it has one (the motion over
-  /// compare_gap frames is predicted from it at constant velocity).
+  /// compare_gap frames is predicted from it at constant velocity). The checks use the
+  /// keypoints only, so `features` may have no lines yet: removeLines() filters them later
+  /// with the result (the System overlaps this with the line extraction).
   DynamicFrameResult process(const RgbdFrame& frame, FrameFeatures* features, const std::optional<SE3>& prior_T_cur_prev);
+  /// Removes the segments of `features` lying on the dynamic mask of `result` (a result of
+  /// process() on the same frame); adds them to result->lines_rejected.
+  void removeLines(FrameFeatures* features, DynamicFrameResult* result) const;
 
  private:
   Segmentation latestSegmentation(const RgbdFrame& frame, DynamicFrameResult* result);
@@ -109,9 +114,10 @@ class DynamicFilter {
 };
 
 /// Removes from `f` the keypoints on dynamic pixels of `mask` or flagged in `point_dynamic`
-/// (per keypoint, may be empty) and the segments with more than `line_fraction` of their
-/// length on dynamic pixels. Returns (points removed, lines removed).
-std::pair<int, int> removeDynamicFeatures(FrameFeatures* f, const cv::Mat& mask, const std::vector<uint8_t>& point_dynamic,
-                                          double line_fraction);
+/// (per keypoint, may be empty). Returns how many were removed.
+int removeDynamicPoints(FrameFeatures* f, const cv::Mat& mask, const std::vector<uint8_t>& point_dynamic);
+/// Removes from `f` the segments with more than `line_fraction` of their length on dynamic
+/// pixels of `mask`. Returns how many were removed.
+int removeDynamicLines(FrameFeatures* f, const cv::Mat& mask, double line_fraction);
 
 }  // namespace plslam

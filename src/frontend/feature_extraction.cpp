@@ -12,7 +12,11 @@ void bindFeatureOptions(OptionTable* t, FeatureOptions* o) {
   t->bind("features.orb_levels", &o->orb.num_levels, "ORB pyramid levels");
   t->bind("features.orb_fast_threshold", &o->orb.fast_threshold, "FAST threshold");
   t->bind("features.orb_min_fast_threshold", &o->orb.min_fast_threshold, "FAST threshold retried on weak images");
-  t->bind("features.line_detect_scale", &o->lines.detect_scale, "LSD runs on the image resized by this");
+  t->bind("features.line_detector", &o->lines.detector, "segment detector: lsd or fld (FastLineDetector)");
+  t->bind("features.line_detect_scale", &o->lines.detect_scale, "the segment detector runs on the image resized by this");
+  t->bind("features.line_fld_min_length_px", &o->lines.fld_min_length_px, "FLD: shortest segment, pixels of the resized image");
+  t->bind("features.line_fld_canny_low", &o->lines.fld_canny_low, "FLD: Canny's low hysteresis threshold");
+  t->bind("features.line_fld_canny_high", &o->lines.fld_canny_high, "FLD: Canny's high hysteresis threshold");
   t->bind("features.line_min_length_ratio", &o->lines.min_length_ratio, "shortest segment, fraction of the image diagonal");
   t->bind("features.line_max", &o->lines.max_lines, "segments kept per image (the longest)");
   t->bind("features.line_merge_angle_deg", &o->lines.merge_angle_deg, "merge fragments closer than this in direction (deg)");
@@ -21,50 +25,71 @@ void bindFeatureOptions(OptionTable* t, FeatureOptions* o) {
   t->bind("features.parallel", &o->parallel, "extract points and lines on two threads");
 }
 
-FrameFeatures extractFeatures(const RgbdFrame& frame, const cv::Mat& mask, const PinholeCamera& camera,
-                              const FeatureOptions& o) {
+FeatureExtraction::FeatureExtraction(const RgbdFrame& frame, const cv::Mat& mask, const PinholeCamera& camera,
+                                     const FeatureOptions& options)
+    : frame_(frame), mask_(mask), camera_(camera), options_(options) {
+  if (frame.bgr.empty()) return;
+  if (frame.bgr.channels() == 3) cv::cvtColor(frame.bgr, grey_, cv::COLOR_BGR2GRAY);
+  else grey_ = frame.bgr;
+  if (options_.use_lines && options_.parallel) lines_ = std::async(std::launch::async, [this] { return runLines(); });
+}
+
+FeatureExtraction::~FeatureExtraction() {
+  if (lines_.valid()) lines_.wait();
+}
+
+FeatureExtraction::Lines FeatureExtraction::runLines() {
+  Lines out;
+  out.segments = detectLines(grey_, mask_, options_.lines, nullptr, &line_times_);
+  const StageTimer timer(&line_times_, Stage::kLbd);
+  out.descriptors = describeLines(grey_, out.segments, options_.lines);
+  return out;
+}
+
+FrameFeatures FeatureExtraction::points(StageTimes* times) {
   FrameFeatures f;
   f.point_descriptors = cv::Mat(0, 32, CV_8U);
   f.line_descriptors = cv::Mat(0, 32, CV_8U);
-  if (frame.bgr.empty()) return f;
-  cv::Mat grey;
-  if (frame.bgr.channels() == 3) cv::cvtColor(frame.bgr, grey, cv::COLOR_BGR2GRAY);
-  else grey = frame.bgr;
-
-  auto lines_job = [&] {
-    std::vector<LineSegment2D> segs = detectLines(grey, mask, o.lines);
-    return std::make_pair(segs, describeLines(grey, segs, o.lines));
-  };
-  std::future<std::pair<std::vector<LineSegment2D>, cv::Mat>> lines_future;
-  if (o.use_lines && o.parallel) lines_future = std::async(std::launch::async, lines_job);
-
+  if (grey_.empty()) return f;
   std::vector<cv::KeyPoint> kps;
-  extractOrb(grey, mask, o.orb, &kps, &f.point_descriptors);
+  extractOrb(grey_, mask_, options_.orb, &kps, &f.point_descriptors, times);
+  const StageTimer timer(times, Stage::kUndistort);
   f.points.reserve(kps.size());
   for (const cv::KeyPoint& k : kps) {
     Keypoint p;
     p.uv_raw = Eigen::Vector2d(k.pt.x, k.pt.y);
-    p.uv = camera.undistort(p.uv_raw);
+    p.uv = camera_.undistort(p.uv_raw);
     p.octave = k.octave;
     p.angle = k.angle;
-    const float d = frame.depth_m.empty() ? NAN : depthAt(frame.depth_m, k.pt.x, k.pt.y);
-    p.depth_m = std::isfinite(d) && d >= o.min_depth_m ? d : NAN;
+    const float d = frame_.depth_m.empty() ? NAN : depthAt(frame_.depth_m, k.pt.x, k.pt.y);
+    p.depth_m = std::isfinite(d) && d >= options_.min_depth_m ? d : NAN;
     f.points.push_back(p);
   }
+  return f;
+}
 
-  if (o.use_lines) {
-    auto [segs, desc] = o.parallel ? lines_future.get() : lines_job();
-    f.line_descriptors = desc;
-    f.lines.reserve(segs.size());
-    for (const LineSegment2D& s : segs) {
-      Segment2D l;
-      l.p_raw = s.p;
-      l.q_raw = s.q;
-      l.p = camera.undistort(s.p);
-      l.q = camera.undistort(s.q);
-      f.lines.push_back(l);
-    }
+void FeatureExtraction::addLines(FrameFeatures* f, StageTimes* times) {
+  if (grey_.empty() || !options_.use_lines) return;
+  Lines lines = options_.parallel ? lines_.get() : runLines();
+  if (times) times->add(line_times_);
+  const StageTimer timer(times, Stage::kUndistort);
+  f->line_descriptors = lines.descriptors;
+  f->lines.reserve(lines.segments.size());
+  for (const LineSegment2D& s : lines.segments) {
+    Segment2D l;
+    l.p_raw = s.p;
+    l.q_raw = s.q;
+    l.p = camera_.undistort(s.p);
+    l.q = camera_.undistort(s.q);
+    f->lines.push_back(l);
   }
+}
+
+FrameFeatures extractFeatures(const RgbdFrame& frame, const cv::Mat& mask, const PinholeCamera& camera,
+                              const FeatureOptions& o, StageTimes* times) {
+  FeatureExtraction extraction(frame, mask, camera, o);
+  FrameFeatures f = extraction.points(times);
+  extraction.addLines(&f, times);
   return f;
 }
 

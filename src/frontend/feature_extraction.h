@@ -2,12 +2,14 @@
 // segments (on two threads), moved to ideal pixels, keypoints given their depth.
 #pragma once
 
+#include <future>
 #include <opencv2/core.hpp>
 
 #include "camera/pinhole_camera.h"
 #include "core/frame.h"
 #include "core/map.h"
 #include "core/option_table.h"
+#include "core/profile.h"
 #include "features/line_extractor.h"
 #include "features/orb_extractor.h"
 
@@ -23,8 +25,42 @@ struct FeatureOptions {
 
 void bindFeatureOptions(OptionTable* table, FeatureOptions* options);
 
-/// `mask` (CV_8U, 0 = forbidden; may be empty) keeps features off those pixels.
+/// One frame's extraction in two halves, so that work on the keypoints (the dynamic check)
+/// can run while the segments are still being extracted: the constructor starts the lines
+/// (on another thread when options.parallel), points() extracts the keypoints on the
+/// caller's thread, addLines() waits for the segments and appends them. `frame`, `mask`,
+/// `camera` and `options` must outlive the object. The result is the same as extractFeatures.
+class FeatureExtraction {
+ public:
+  FeatureExtraction(const RgbdFrame& frame, const cv::Mat& mask, const PinholeCamera& camera, const FeatureOptions& options);
+  ~FeatureExtraction();  ///< waits for the line thread
+  FeatureExtraction(const FeatureExtraction&) = delete;
+  FeatureExtraction& operator=(const FeatureExtraction&) = delete;
+
+  /// Keypoints with descriptors and depth; no lines yet. Call once, before addLines().
+  FrameFeatures points(StageTimes* times = nullptr);
+  /// Appends the segments and their descriptors to `f` (none when lines are off).
+  void addLines(FrameFeatures* f, StageTimes* times = nullptr);
+
+ private:
+  struct Lines {
+    std::vector<LineSegment2D> segments;
+    cv::Mat descriptors;
+  };
+  Lines runLines();
+
+  const RgbdFrame& frame_;
+  const cv::Mat& mask_;
+  const PinholeCamera& camera_;
+  const FeatureOptions& options_;
+  cv::Mat grey_;
+  StageTimes line_times_;  // written by the line job only, read after it finished
+  std::future<Lines> lines_;
+};
+
+/// `mask` (CV_8U, 0 = forbidden; may be empty) keeps features off those pixels. `times`
+/// (optional) gets the extraction stages (ORB, LSD, merge, LBD, undistortion).
 FrameFeatures extractFeatures(const RgbdFrame& frame, const cv::Mat& mask, const PinholeCamera& camera,
-                              const FeatureOptions& options);
+                              const FeatureOptions& options, StageTimes* times = nullptr);
 
 }  // namespace plslam

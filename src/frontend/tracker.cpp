@@ -44,6 +44,13 @@ TrackingResult Tracker::track(TimeNs t_ns, const FrameFeatures& f) {
     return r;
   }
   if (!have_last_) return initialise(t_ns, f);
+  times_ = StageTimes();
+  TrackingResult r = trackInitialised(t_ns, f);
+  r.times = times_;
+  return r;
+}
+
+TrackingResult Tracker::trackInitialised(TimeNs t_ns, const FrameFeatures& f) {
   TrackingResult r;
   if (static_cast<int>(f.points.size()) + static_cast<int>(f.lines.size()) < options_.min_inliers) {
     r.status = TrackingStatus::kNoFeatures;
@@ -113,6 +120,7 @@ TrackingResult Tracker::track(TimeNs t_ns, const FrameFeatures& f) {
   have_velocity_ = !relocalised;  // the last pose before the loss says nothing of the motion now
   T_w_last_ = T_w_c;
   ++frames_since_kf_;
+  const StageTimer keyframe_timer(&times_, Stage::kKeyframe);
   if (!options_.localization_only && needKeyframe(T_w_c, r.inliers)) {
     r.keyframe_id = makeKeyframe(t_ns, T_w_c, f, m);
     r.new_keyframe = true;
@@ -187,6 +195,7 @@ void Tracker::updateReferenceKeyframe(const Matches& m) {
 }
 
 void Tracker::searchLocalMap(const SE3& T_w_c, const FrameFeatures& f, double radius, Matches* m, bool count_visible) {
+  const StageTimer timer(&times_, Stage::kSearch);
   std::lock_guard<std::mutex> lock(map_->mutex());
   if (m->point_ids.size() != f.points.size()) m->point_ids.assign(f.points.size(), kNoId);
   if (m->line_ids.size() != f.lines.size()) m->line_ids.assign(f.lines.size(), kNoId);
@@ -276,7 +285,8 @@ void Tracker::searchLocalMap(const SE3& T_w_c, const FrameFeatures& f, double ra
     m->line_ids[dm.train] = line_pred_ids[dm.query];
 }
 
-PoseOnlyResult Tracker::optimise(const SE3& T_w_c, const FrameFeatures& f, Matches* m) const {
+PoseOnlyResult Tracker::optimise(const SE3& T_w_c, const FrameFeatures& f, Matches* m) {
+  const StageTimer timer(&times_, Stage::kPoseOptimisation);
   FrameObservations obs = matchedObservations(f, m->point_ids, m->line_ids);
   PoseOnlyProblem problem;
   {

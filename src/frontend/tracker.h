@@ -19,6 +19,7 @@
 
 #include "camera/pinhole_camera.h"
 #include "core/map.h"
+#include "core/profile.h"
 #include "optim/pose_optimizer.h"
 
 namespace plslam {
@@ -83,6 +84,7 @@ struct TrackingResult {
   /// When tracked (not on initialisation): the landmark each keypoint / segment was an
   /// inlier match of (kNoId: none), for refining the pose later (frame_refinement.h).
   std::vector<Id> point_matches, line_matches;
+  StageTimes times;  ///< kSearch, kPoseOptimisation and kKeyframe of this frame
 };
 
 class Tracker {
@@ -118,9 +120,11 @@ class Tracker {
     std::vector<Id> line_ids;   // per line
   };
   TrackingResult initialise(TimeNs t_ns, const FrameFeatures& f);
+  /// track() once the map exists: motion model or relocalisation, then the keyframe decision.
+  TrackingResult trackInitialised(TimeNs t_ns, const FrameFeatures& f);
   std::vector<Id> localKeyframes() const;
   void searchLocalMap(const SE3& T_w_c, const FrameFeatures& f, double radius, Matches* m, bool count_visible);
-  PoseOnlyResult optimise(const SE3& T_w_c, const FrameFeatures& f, Matches* m) const;
+  PoseOnlyResult optimise(const SE3& T_w_c, const FrameFeatures& f, Matches* m);
   bool relocalise(const FrameFeatures& f, SE3* T_w_c, Matches* m);
   /// Localisation only: the keyframe sharing the most landmarks with the tracked frame.
   void updateReferenceKeyframe(const Matches& m);
@@ -139,6 +143,7 @@ class Tracker {
   int reference_kf_landmarks_ = 0;
   int lost_events_ = 0, relocalisations_ = 0;
   bool search_all_keyframes_ = false;  // relocalise against every keyframe (loaded map, not tracked yet)
+  StageTimes times_;  // the current frame's stage times (searchLocalMap and optimise add to them)
 };
 
 }  // namespace plslam

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "loop/map_correction.h"
 #include "mapping/line_reconstruction.h"
 
 namespace plslam {
@@ -365,34 +366,40 @@ std::optional<LoopCorrection> LoopCloser::processKeyframe(Id id) {
   return std::nullopt;
 }
 
-std::optional<LoopCorrection> LoopCloser::correct(const LoopCandidate& c,
-                                                  const std::vector<std::pair<int, int>>& inlier_pairs) {
-  const auto t0 = std::chrono::steady_clock::now();
-  std::unique_lock<std::mutex> guard;
-  if (guard_) guard = std::unique_lock<std::mutex>(*guard_);
-  std::lock_guard<std::mutex> lock(map_->mutex());
-  KeyFrame* query = map_->keyframe(c.query);
-  KeyFrame* match = map_->keyframe(c.candidate);
-  if (!query || !match) return std::nullopt;
+namespace {
 
-  std::vector<Id> ids;
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+std::unique_lock<std::mutex> LoopCloser::lockForCorrection() {
+  return guard_ ? std::unique_lock<std::mutex>(*guard_) : std::unique_lock<std::mutex>();
+}
+
+bool LoopCloser::buildPoseGraph(const LoopCandidate& c, PoseGraphSnapshot* g) const {
+  const KeyFrame* query = map_->keyframe(c.query);
+  const KeyFrame* match = map_->keyframe(c.candidate);
+  if (!query || !match) return false;
   std::map<Id, int> index;
   for (const auto& [id, kf] : map_->keyframes()) {
-    index[id] = static_cast<int>(ids.size());
-    ids.push_back(id);
+    index[id] = static_cast<int>(g->ids.size());
+    g->ids.push_back(id);
+    g->T_w_c.push_back(kf.T_w_c);
   }
-  PoseGraphProblem problem;
-  for (Id id : ids) problem.vertices.push_back({map_->keyframe(id)->T_w_c, false});
+  PoseGraphProblem& problem = g->problem;
+  for (const SE3& T : g->T_w_c) problem.vertices.push_back({T, false});
   problem.vertices.front().fixed = true;
   const Eigen::Matrix<double, 6, 6> info =
       PoseGraphProblem::information(options_.edge_sigma_trans_m, options_.edge_sigma_rot_deg * M_PI / 180.0);
   auto relative = [&](int i, int j) { return problem.vertices[i].T_w_c.inverse() * problem.vertices[j].T_w_c; };
   std::set<std::pair<int, int>> linked;
-  for (size_t i = 1; i < ids.size(); ++i) {
+  for (size_t i = 1; i < g->ids.size(); ++i) {
     problem.edges.push_back({static_cast<int>(i - 1), static_cast<int>(i), relative(i - 1, i), info});
     linked.insert({static_cast<int>(i - 1), static_cast<int>(i)});
   }
-  for (Id id : ids) {
+  for (Id id : g->ids) {
     for (const auto& [other, shared] : map_->covisible(id, options_.covisibility_edge_min_shared)) {
       const int i = index[id], j = index.at(other);
       if (i >= j || linked.count({i, j})) continue;
@@ -400,24 +407,38 @@ std::optional<LoopCorrection> LoopCloser::correct(const LoopCandidate& c,
       linked.insert({i, j});
     }
   }
-  loop_edges_.push_back({c.query, c.candidate, c.T_query_candidate});
   for (const LoopEdge& e : loop_edges_) {
     if (!index.count(e.a) || !index.count(e.b)) continue;
     problem.edges.push_back({index[e.a], index[e.b], e.T_a_b, info});
   }
   // Initial guess: the query's covisibility group moves with the loop's correction.
   const SE3 T_w_query_corrected = match->T_w_c * c.T_query_candidate.inverse();
-  const SE3 correction = T_w_query_corrected * query->T_w_c.inverse();
+  g->correction = T_w_query_corrected * query->T_w_c.inverse();
   std::set<Id> group{c.query};
   for (const auto& [other, shared] : map_->covisible(c.query, 1)) group.insert(other);
   // The match's side stays where it is (the older, trusted part of the map).
   std::set<Id> match_side{c.candidate};
   for (const auto& [other, shared] : map_->covisible(c.candidate, 1)) match_side.insert(other);
-  for (Id g : group)
-    if (!match_side.count(g)) problem.vertices[index[g]].T_w_c = correction * problem.vertices[index[g]].T_w_c;
+  for (Id k : group)
+    if (!match_side.count(k)) problem.vertices[index[k]].T_w_c = g->correction * problem.vertices[index[k]].T_w_c;
+  return true;
+}
 
-  PoseGraphOptimizer optimizer(options_.pose_graph);
-  const PoseGraphResult result = optimizer.optimize(problem);
+std::optional<LoopCorrection> LoopCloser::correct(const LoopCandidate& c,
+                                                  const std::vector<std::pair<int, int>>& inlier_pairs) {
+  const auto t0 = std::chrono::steady_clock::now();
+  // The pose graph is built under the map lock, solved without any lock (tracking and local
+  // mapping go on), and its result applied in one short critical section.
+  PoseGraphSnapshot graph;
+  loop_edges_.push_back({c.query, c.candidate, c.T_query_candidate});
+  {
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    if (!buildPoseGraph(c, &graph)) {
+      loop_edges_.pop_back();
+      return std::nullopt;
+    }
+  }
+  const PoseGraphResult result = PoseGraphOptimizer(options_.pose_graph).optimize(graph.problem);
   if (!result.ok()) {
     loop_edges_.pop_back();
     kLog.warn(str("loop ", c.query, " - ", c.candidate, ": pose graph failed (", toString(result.status), ")"));
@@ -427,66 +448,55 @@ std::optional<LoopCorrection> LoopCloser::correct(const LoopCandidate& c,
   LoopCorrection out;
   out.query = c.query;
   out.match = c.candidate;
-  for (size_t i = 0; i < ids.size(); ++i) {
-    KeyFrame* kf = map_->keyframe(ids[i]);
-    out.T_new_old[ids[i]] = result.T_w_c[i] * kf->T_w_c.inverse();
-    kf->T_w_c = result.T_w_c[i];
-  }
-  auto correctionOf = [&](Id first, const std::map<Id, int>& observations) -> const SE3* {
-    auto it = out.T_new_old.find(first);
-    if (it != out.T_new_old.end()) return &it->second;
-    for (const auto& [kf, idx] : observations) {
-      it = out.T_new_old.find(kf);
-      if (it != out.T_new_old.end()) return &it->second;
-    }
-    return nullptr;
-  };
-  for (const auto& [pid, p] : map_->points()) {
-    MapPoint* mp = map_->point(pid);
-    if (const SE3* T = correctionOf(p.first_keyframe, p.observations)) mp->p_w = *T * mp->p_w;
-  }
-  for (const auto& [lid, l] : map_->lines()) {
-    MapLine* ml = map_->line(lid);
-    if (const SE3* T = correctionOf(l.first_keyframe, l.observations)) {
-      ml->P_w = *T * ml->P_w;
-      ml->Q_w = *T * ml->Q_w;
-    }
-  }
   int fused = 0;
-  if (options_.fuse_duplicates) {
-    for (const auto& [iq, im] : inlier_pairs) {
-      query = map_->keyframe(c.query);
-      match = map_->keyframe(c.candidate);
-      if (iq >= static_cast<int>(query->point_ids.size()) || im >= static_cast<int>(match->point_ids.size())) continue;
-      const Id pq = query->point_ids[iq], pm = match->point_ids[im];
-      if (pq == kNoId || pm == kNoId || pq == pm || !map_->point(pq) || !map_->point(pm)) continue;
-      map_->mergePoint(pq, pm);
-      ++fused;
-    }
+  {
+    const auto t_hold = std::chrono::steady_clock::now();
+    std::unique_lock<std::mutex> guard = lockForCorrection();
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    out.T_new_old = keyframeChanges(*map_, graph.ids, graph.T_w_c, result.T_w_c);
+    applyChanges(map_, out.T_new_old, {});
+    if (options_.fuse_duplicates) fused = fuseLoopPoints(c, inlier_pairs);
+    if (hook_) hook_(out);
+    out.hold_ms += msSince(t_hold);
   }
-  if (options_.global_ba) globalBundleAdjustment(&out.T_new_old);
-  if (hook_) hook_(out);
-  out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  if (options_.global_ba) globalBundleAdjustment(&out);
+  out.ms = msSince(t0);
   stats_.correction_ms.push_back(out.ms);
+  stats_.correction_hold_ms.push_back(out.hold_ms);
   kLog.info(str("loop closed: keyframe ", c.query, " with ", c.candidate, " (", c.inliers, " inliers, ",
-                correction.translation().norm(), " m correction), ", ids.size(), " keyframes, ", problem.edges.size(),
-                " edges, ", fused, " points fused, ", out.ms, " ms"));
+                graph.correction.translation().norm(), " m correction), ", graph.ids.size(), " keyframes, ",
+                graph.problem.edges.size(), " edges, ", fused, " points fused, ", out.ms, " ms (map held ", out.hold_ms,
+                " ms)"));
   return out;
 }
 
-void LoopCloser::globalBundleAdjustment(std::map<Id, SE3>* corrections) {
+int LoopCloser::fuseLoopPoints(const LoopCandidate& c, const std::vector<std::pair<int, int>>& inlier_pairs) {
+  int fused = 0;
+  for (const auto& [iq, im] : inlier_pairs) {
+    const KeyFrame* query = map_->keyframe(c.query);
+    const KeyFrame* match = map_->keyframe(c.candidate);
+    if (!query || !match) break;
+    if (iq >= static_cast<int>(query->point_ids.size()) || im >= static_cast<int>(match->point_ids.size())) continue;
+    const Id pq = query->point_ids[iq], pm = match->point_ids[im];
+    if (pq == kNoId || pm == kNoId || pq == pm || !map_->point(pq) || !map_->point(pm)) continue;
+    map_->mergePoint(pq, pm);
+    ++fused;
+  }
+  return fused;
+}
+
+BundleProblem LoopCloser::globalBundleProblem(std::vector<Id>* kf_ids, std::vector<Id>* point_ids) const {
   BundleProblem problem;
-  std::vector<Id> kf_ids, point_ids;
   std::map<Id, int> kf_index;
   for (const auto& [id, kf] : map_->keyframes()) {
-    kf_index[id] = static_cast<int>(kf_ids.size());
-    kf_ids.push_back(id);
-    problem.keyframes.push_back({kf.T_w_c, kf_ids.size() == 1});
+    kf_index[id] = static_cast<int>(kf_ids->size());
+    kf_ids->push_back(id);
+    problem.keyframes.push_back({kf.T_w_c, kf_ids->size() == 1});
   }
   for (const auto& [pid, p] : map_->points()) {
     if (p.observations.size() < 2) continue;
-    const int pi = static_cast<int>(point_ids.size());
-    point_ids.push_back(pid);
+    const int pi = static_cast<int>(point_ids->size());
+    point_ids->push_back(pid);
     problem.points.push_back({p.p_w, false});
     for (const auto& [kid, idx] : p.observations) {
       const KeyFrame* kf = map_->keyframe(kid);
@@ -501,27 +511,40 @@ void LoopCloser::globalBundleAdjustment(std::map<Id, SE3>* corrections) {
       problem.point_obs.push_back(o);
     }
   }
+  return problem;
+}
+
+void LoopCloser::globalBundleAdjustment(LoopCorrection* correction) {
+  // Like the pose graph: the problem is a snapshot, solved without the lock, applied as the
+  // change of each keyframe from its snapshot pose (lines and single-view points follow
+  // their keyframe; map points that local BA moved meanwhile too).
+  std::vector<Id> kf_ids, point_ids;
+  BundleProblem problem;
+  {
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    problem = globalBundleProblem(&kf_ids, &point_ids);
+  }
   const BundleResult r = LocalBundleAdjuster(options_.ba).adjust(camera_, problem);
   if (!r.ok()) {
     kLog.warn(str("global BA after the loop failed (", toString(r.status), "); the pose-graph result is kept"));
     return;
   }
-  for (size_t i = 0; i < kf_ids.size(); ++i) {
-    KeyFrame* kf = map_->keyframe(kf_ids[i]);
-    const SE3 delta = r.T_w_c[i] * kf->T_w_c.inverse();
-    (*corrections)[kf_ids[i]] = delta * (*corrections)[kf_ids[i]];
-    kf->T_w_c = r.T_w_c[i];
-    // Lines and single-view points are not in the BA: they follow their keyframe.
-    for (size_t li = 0; li < kf->line_ids.size(); ++li) {
-      MapLine* l = map_->line(kf->line_ids[li]);
-      if (l && l->first_keyframe == kf_ids[i]) l->P_w = delta * l->P_w, l->Q_w = delta * l->Q_w;
-    }
-    for (Id pid : kf->point_ids) {
-      MapPoint* p = map_->point(pid);
-      if (p && p->first_keyframe == kf_ids[i] && p->observations.size() < 2) p->p_w = delta * p->p_w;
-    }
+  std::vector<SE3> snapshot;
+  for (const auto& k : problem.keyframes) snapshot.push_back(k.T_w_c);
+  std::map<Id, std::pair<Eigen::Vector3d, Eigen::Vector3d>> solved_points;
+  for (size_t i = 0; i < point_ids.size(); ++i) solved_points[point_ids[i]] = {problem.points[i].p_w, r.points[i]};
+  const auto t_hold = std::chrono::steady_clock::now();
+  std::unique_lock<std::mutex> guard = lockForCorrection();
+  std::lock_guard<std::mutex> lock(map_->mutex());
+  LoopCorrection step;
+  step.T_new_old = keyframeChanges(*map_, kf_ids, snapshot, r.T_w_c);
+  applyChanges(map_, step.T_new_old, solved_points);
+  if (hook_) hook_(step);
+  for (const auto& [id, T] : step.T_new_old) {
+    auto it = correction->T_new_old.find(id);
+    correction->T_new_old[id] = it == correction->T_new_old.end() ? T : T * it->second;
   }
-  for (size_t i = 0; i < point_ids.size(); ++i) map_->point(point_ids[i])->p_w = r.points[i];
+  correction->hold_ms += msSince(t_hold);
   kLog.info(str("global BA after the loop: ", kf_ids.size(), " keyframes, ", point_ids.size(), " points, ", r.outliers,
                 " outliers, ", r.time_ms, " ms"));
 }

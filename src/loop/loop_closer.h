@@ -23,8 +23,9 @@
 //     the inlier point pairs observed by both places are fused.
 // Every examined candidate ends with a LoopStatus and a reason.
 //
-// Thread safety: one LoopCloser per map, used from one thread; it holds the map's mutex
-// while it reads keyframes and while it applies a correction.
+// Thread safety: one LoopCloser per map, used from one thread (the System's loop thread);
+// it holds the map's mutex while it reads keyframes and while it applies a correction, never
+// while it solves: tracking and local mapping go on during a correction's solves.
 #pragma once
 
 #include <functional>
@@ -120,7 +121,8 @@ struct LoopCandidate {
 struct LoopCorrection {
   Id query = kNoId, match = kNoId;
   std::map<Id, SE3> T_new_old;
-  double ms = 0;
+  double ms = 0;       ///< detection to applied correction, solves included
+  double hold_ms = 0;  ///< of which the map (and tracking) were held: the critical sections only
 };
 
 struct LoopStats {
@@ -129,6 +131,7 @@ struct LoopStats {
   int accepted = 0;
   int refused[kLoopStatusCount] = {};  ///< per LoopStatus
   std::vector<double> correction_ms;
+  std::vector<double> correction_hold_ms;  ///< per correction, how long tracking and mapping waited for it
 };
 
 /// Similarity of two keyframes' bags as the loop closer computes it (before normalisation).
@@ -193,12 +196,28 @@ class LoopCloser {
   const VocabularySet& vocabulary() const { return *vocabulary_; }
 
  private:
+  /// A pose graph over every keyframe, taken from the map (caller holds its lock).
+  struct PoseGraphSnapshot {
+    std::vector<Id> ids;     ///< keyframes, ascending
+    std::vector<SE3> T_w_c;  ///< their poses as taken
+    PoseGraphProblem problem;
+    SE3 correction;          ///< the loop's correction of the query's side (initial guess)
+  };
+  /// Pose graph (then global BA): each solved on a snapshot without the map lock and applied
+  /// in a short critical section under the correction guard and the map lock.
   std::optional<LoopCorrection> correct(const LoopCandidate& c, const std::vector<std::pair<int, int>>& inlier_pairs);
+  bool buildPoseGraph(const LoopCandidate& c, PoseGraphSnapshot* graph) const;
+  /// Merges the loop's inlier point pairs (caller holds the map lock); returns how many.
+  int fuseLoopPoints(const LoopCandidate& c, const std::vector<std::pair<int, int>>& inlier_pairs);
+  /// The correction guard, locked (empty when there is none).
+  std::unique_lock<std::mutex> lockForCorrection();
   void record(const LoopCandidate& c);
   /// Adds (or replaces) a keyframe's bags in the database, keeping order_ free of repeats.
   void index(Id id, const KeyframeBow& bow);
-  /// Global BA under the held map lock; updates `corrections` (T_new_old per keyframe).
-  void globalBundleAdjustment(std::map<Id, SE3>* corrections);
+  /// Every keyframe and every map point seen twice (caller holds the map lock).
+  BundleProblem globalBundleProblem(std::vector<Id>* kf_ids, std::vector<Id>* point_ids) const;
+  /// Global BA on a snapshot, applied like the pose graph; composes its change into `correction`.
+  void globalBundleAdjustment(LoopCorrection* correction);
 
   Map* map_;
   PinholeCamera camera_;

@@ -24,14 +24,12 @@ void LocalMapper::processKeyframe(Id keyframe, const cv::Mat& depth_m) {
 void LocalMapper::createLines(Id keyframe, const cv::Mat& depth_m) {
   std::vector<Segment2D> segments;
   std::vector<Id> line_ids;
-  SE3 T_w_c;
   {
     std::lock_guard<std::mutex> lock(map_->mutex());
     const KeyFrame* kf = map_->keyframe(keyframe);
     if (!kf) return;
     segments = kf->features.lines;
     line_ids = kf->line_ids;
-    T_w_c = kf->T_w_c;
   }
   if (segments.empty() || depth_m.empty()) return;
   // Both methods are tried on every segment so that the two rates compare like with like;
@@ -52,8 +50,8 @@ void LocalMapper::createLines(Id keyframe, const cv::Mat& depth_m) {
   if (!kf) return;
   for (const auto& [index, seg] : fresh) {
     MapLine l;
-    l.P_w = T_w_c * seg.P_c;
-    l.Q_w = T_w_c * seg.Q_c;
+    l.P_w = kf->T_w_c * seg.P_c;  // the pose now: a loop correction may have moved it meanwhile
+    l.Q_w = kf->T_w_c * seg.Q_c;
     l.descriptor = kf->features.line_descriptors.row(index).clone();
     l.first_keyframe = keyframe;
     const Id id = map_->addLine(std::move(l));
@@ -65,9 +63,11 @@ void LocalMapper::createLines(Id keyframe, const cv::Mat& depth_m) {
 void LocalMapper::localBundleAdjustment(Id keyframe) {
   BundleProblem problem;
   std::vector<Id> kf_ids, point_ids, line_ids;
+  uint64_t corrections = 0;
   {
     std::lock_guard<std::mutex> lock(map_->mutex());
     if (!map_->keyframe(keyframe)) return;
+    corrections = map_->corrections();
     std::vector<Id> free_kfs{keyframe};
     for (const auto& [id, shared] : map_->covisible(keyframe, options_.min_covisible_points)) {
       if (static_cast<int>(free_kfs.size()) >= options_.ba_keyframes) break;
@@ -135,16 +135,22 @@ void LocalMapper::localBundleAdjustment(Id keyframe) {
     return;
   }
   std::lock_guard<std::mutex> lock(map_->mutex());
-  for (size_t k = 0; k < kf_ids.size(); ++k)
-    if (!problem.keyframes[k].fixed)
-      if (KeyFrame* kf = map_->keyframe(kf_ids[k])) kf->T_w_c = r.T_w_c[k];
-  for (size_t i = 0; i < point_ids.size(); ++i)
-    if (MapPoint* p = map_->point(point_ids[i])) p->p_w = r.points[i];
-  for (size_t i = 0; i < line_ids.size(); ++i)
-    if (MapLine* l = map_->line(line_ids[i])) {
-      l->P_w = r.lines[i].first;
-      l->Q_w = r.lines[i].second;
-    }
+  // A loop correction landed while this BA ran (on the loop thread): its absolute result
+  // would undo the correction; it is dropped, the next keyframe's BA works on the moved map.
+  if (map_->corrections() == corrections) {
+    for (size_t k = 0; k < kf_ids.size(); ++k)
+      if (!problem.keyframes[k].fixed)
+        if (KeyFrame* kf = map_->keyframe(kf_ids[k])) kf->T_w_c = r.T_w_c[k];
+    for (size_t i = 0; i < point_ids.size(); ++i)
+      if (MapPoint* p = map_->point(point_ids[i])) p->p_w = r.points[i];
+    for (size_t i = 0; i < line_ids.size(); ++i)
+      if (MapLine* l = map_->line(line_ids[i])) {
+        l->P_w = r.lines[i].first;
+        l->Q_w = r.lines[i].second;
+      }
+  } else {
+    ++stats_.ba_dropped;
+  }
   // Outlying observations are dropped (the landmark stays if others support it).
   for (size_t o = 0; o < problem.point_obs.size(); ++o) {
     if (!r.point_obs_outlier[o]) continue;

@@ -46,6 +46,7 @@ struct MapperStats {
   int lines_created = 0;
   int points_culled = 0, lines_culled = 0;
   int ba_runs = 0;
+  int ba_dropped = 0;  ///< results dropped because a loop correction landed during the solve
   std::vector<double> ba_ms;
 };
 

@@ -43,7 +43,10 @@ std::string statsToJson(const RunStats& s, const std::string& extra) {
      << ",\n  \"relocalisations\": " << s.relocalisations << ",\n  \"refined_frames\": " << s.refined_frames << ",\n  \"map_points\": " << s.map_points
      << ",\n  \"map_lines\": " << s.map_lines << ",\n  \"tracking_ms\": " << summaryJson(s.tracking_ms)
      << ",\n  \"features_ms\": " << summaryJson(s.features_ms) << ",\n  \"local_ba_ms\": " << summaryJson(s.ba_ms)
-     << ",\n  \"refinement_ms\": " << summaryJson(s.refinement_ms)
+     << ",\n  \"refinement_ms\": " << summaryJson(s.refinement_ms) << ",\n  \"stages_ms\": {";
+  for (int i = 0; i < kStageCount; ++i)
+    os << (i ? ", " : "") << "\"" << stageName(static_cast<Stage>(i)) << "\": " << summaryJson(s.stage_ms[i]);
+  os << "}"
      << ",\n  \"line_reconstruction_rate\": {\"fitting\": " << s.line_rate_fitting
      << ", \"endpoints\": " << s.line_rate_endpoints << ", \"keyframes\": " << s.line_rate_keyframes << "}"
      << ",\n  \"dynamic\": {\"segmenter\": \"" << s.segmenter << "\", \"points_rejected_per_frame\": "
@@ -60,7 +63,8 @@ std::string statsToJson(const RunStats& s, const std::string& extra) {
        << ", \"accepted\": " << s.loop.accepted << ", \"refused\": {";
     for (int i = 1; i < kLoopStatusCount; ++i)
       os << (i > 1 ? ", " : "") << "\"" << toString(static_cast<LoopStatus>(i)) << "\": " << s.loop.refused[i];
-    os << "}, \"correction_ms\": " << summaryJson(s.loop.correction_ms) << "}";
+    os << "}, \"correction_ms\": " << summaryJson(s.loop.correction_ms)
+       << ", \"correction_hold_ms\": " << summaryJson(s.loop.correction_hold_ms) << "}";
   }
   if (!extra.empty()) os << ",\n  " << extra;
   os << "\n}\n";

@@ -35,9 +35,13 @@ struct System::Pipeline {
         mapper(map, camera, o.mapper),
         dynamic(camera, o.dynamic, o.dynamic.enabled ? makeSegmenter(o.segmenter) : nullptr, !o.sequential),
         queue(o.mapping_queue, QueuePolicy::kBlock),
+        // Unbounded in practice: every keyframe must reach the loop closer's database, and it
+        // gets a few a second at most; a correction's solves may hold the loop thread a while.
+        loop_queue(1 << 16, QueuePolicy::kBlock),
         map(map),
         camera(camera),
-        dense(o.dense) {}
+        dense(o.dense),
+        sequential(o.sequential) {}
   /// The mapping thread's work on one keyframe (on the caller's thread when sequential).
   void processKeyframe(const KeyframeJob& job) {
     if (dense.enabled) {
@@ -48,16 +52,21 @@ struct System::Pipeline {
       if (KeyFrame* kf = map->keyframe(job.keyframe)) kf->dense = std::move(cloud);
     }
     mapper.processKeyframe(job.keyframe, job.depth_m);
-    if (loop) loop->processKeyframe(job.keyframe);
+    if (!loop) return;
+    if (sequential) loop->processKeyframe(job.keyframe);
+    else loop_queue.push(job.keyframe);  // the loop thread: local mapping never waits for a loop search
   }
   Tracker tracker;
   LocalMapper mapper;
   DynamicFilter dynamic;
   BoundedQueue<KeyframeJob> queue;
+  BoundedQueue<Id> loop_queue;   ///< keyframes the mapper finished, for the loop thread
   Map* map;                      ///< for storing the dense clouds
   PinholeCamera camera;
   DenseOptions dense;            ///< per-keyframe dense clouds
+  bool sequential;               ///< the loop closer runs inline after the mapper
   std::thread mapping_thread;
+  std::thread loop_thread;        ///< place recognition and corrections (threaded mode with loop closure)
   bool started = false, finished = false;
   std::unique_ptr<LoopCloser> loop;  ///< null without loop closure
   std::mutex tracking_mutex;         ///< held while a frame is tracked; loop corrections wait for it
@@ -93,7 +102,12 @@ void System::start() {
   if (options_.sequential) return;
   pipeline_->mapping_thread = std::thread([p = pipeline_.get()] {
     while (auto job = p->queue.pop()) p->processKeyframe(*job);
+    p->loop_queue.close();  // the loop thread finishes what the mapper handed it
   });
+  if (pipeline_->loop)
+    pipeline_->loop_thread = std::thread([p = pipeline_.get()] {
+      while (auto id = p->loop_queue.pop()) p->loop->processKeyframe(*id);
+    });
 }
 
 TrackingResult System::feed(const RgbdFrame& frame, const cv::Mat& mask) {
@@ -102,9 +116,18 @@ TrackingResult System::feed(const RgbdFrame& frame, const cv::Mat& mask) {
   const auto t0 = std::chrono::steady_clock::now();
   FrameRecord rec;
   rec.t_ns = frame.t_ns;
-  FrameFeatures f = extractFeatures(frame, mask, camera_, options_.features);
+  // The dynamic check needs only the keypoints: it runs while the other thread extracts
+  // the segments, which are filtered with its mask once they are there.
+  FeatureExtraction extraction(frame, mask, camera_, options_.features);
+  FrameFeatures f = extraction.points(&rec.stages);
+  DynamicFrameResult dyn;
+  {
+    const StageTimer timer(&rec.stages, Stage::kDynamic);
+    dyn = pipeline_->dynamic.process(frame, &f, pipeline_->tracker.predictedMotion());
+  }
+  extraction.addLines(&f, &rec.stages);
+  pipeline_->dynamic.removeLines(&f, &dyn);
   rec.features_ms = msSince(t0);
-  const DynamicFrameResult dyn = pipeline_->dynamic.process(frame, &f, pipeline_->tracker.predictedMotion());
   rec.dynamic_points_rejected = dyn.points_rejected;
   rec.dynamic_lines_rejected = dyn.lines_rejected;
   rec.segmentation_ms = dyn.segmentation_ms;
@@ -113,6 +136,7 @@ TrackingResult System::feed(const RgbdFrame& frame, const cv::Mat& mask) {
   std::unique_lock<std::mutex> tracking(pipeline_->tracking_mutex);  // no loop correction from here to the record
   const TrackingResult r = pipeline_->tracker.track(frame.t_ns, f);
   rec.tracking_ms = msSince(t0);
+  rec.stages.add(r.times);
   rec.status = r.status;
   rec.points = static_cast<int>(f.points.size());
   rec.lines = static_cast<int>(f.lines.size());
@@ -156,6 +180,7 @@ void System::finish() {
   pipeline_->finished = true;
   pipeline_->queue.close();
   if (pipeline_->mapping_thread.joinable()) pipeline_->mapping_thread.join();
+  if (pipeline_->loop_thread.joinable()) pipeline_->loop_thread.join();
   if (options_.refine_frames) refineSettledFrames(0, 0, records_.size());
 }
 
@@ -221,6 +246,7 @@ RunStats System::stats() const {
     if (r.mask_age_frames >= 0) s.mask_age_frames.push_back(r.mask_age_frames);
     s.refined_frames += r.refined;
     s.refinement_ms.push_back(r.refinement_ms);
+    for (int i = 0; i < kStageCount; ++i) s.stage_ms[i].push_back(r.stages.ms[i]);
   }
   s.lost_events = pipeline_->tracker.lostEvents();
   s.relocalisations = pipeline_->tracker.relocalisations();

@@ -7,13 +7,15 @@
 //   slam.finish();
 //   slam.trajectory();  // every tracked frame, final (optimised) poses
 //
-// Two modes: threaded (tracking on the caller's thread, local mapping on its own,
-// connected by a bounded queue), and sequential (the same stages, run in a fixed order
-// on the caller's thread: deterministic, for tests and reproducible figures).
+// Two modes: threaded (tracking on the caller's thread, local mapping on its own, loop
+// closure on a third, connected by queues; a loop correction is solved without the map lock
+// and holds tracking only while it is applied), and sequential (the same stages, run in a
+// fixed order on the caller's thread: deterministic, for tests and reproducible figures).
 //
 // Thread safety: start/feed/finish from one thread; the accessors after finish().
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -22,6 +24,7 @@
 #include "core/frame.h"
 #include "core/map.h"
 #include "core/option_table.h"
+#include "core/profile.h"
 #include "core/trajectory.h"
 #include "dense/dense_options.h"
 #include "dynamic/segmenter.h"
@@ -44,7 +47,7 @@ struct SystemOptions {
   DynamicFilterOptions dynamic; ///< rejection of moving objects (dynamic.enabled = false: none)
   SegmenterOptions segmenter;   ///< instance segmentation backend (kind none: geometry only)
   DenseOptions dense;           ///< dense clouds per keyframe and the dense products (dense/)
-  bool use_loop = true;         ///< loop closure (place recognition + pose graph) on the mapping thread
+  bool use_loop = true;         ///< loop closure (place recognition + pose graph) on its own thread
   LoopOptions loop;             ///< loop closure
   /// Re-estimate each frame's pose once local BA has refined its landmarks (frame_refinement.h):
   /// when this many keyframes have been made since it was tracked, or this many frames (so
@@ -64,7 +67,7 @@ struct FrameRecord {
   Id reference_keyframe = kNoId;
   SE3 T_ref_c;              ///< pose relative to the reference keyframe (so BA corrections carry over)
   double tracking_ms = 0;   ///< from the frame's arrival to its pose (features included)
-  double features_ms = 0;   ///< feature extraction alone
+  double features_ms = 0;   ///< until the features are ready: extraction and the dynamic check (which overlaps it)
   int points = 0, lines = 0, matched_points = 0, matched_lines = 0;
   int dynamic_points_rejected = 0, dynamic_lines_rejected = 0;
   double segmentation_ms = -1;   ///< a segmentation that finished for this frame (-1: none)
@@ -74,6 +77,7 @@ struct FrameRecord {
   FrameObservations observations; ///< its inlier matches, until it is refined
   bool refined = false;           ///< T_ref_c was re-estimated against the settled map
   double refinement_ms = 0;       ///< time feed() spent refining earlier frames after this one's pose
+  StageTimes stages;              ///< where the tracking time went (core/profile.h)
 };
 
 struct RunStats {
@@ -86,6 +90,7 @@ struct RunStats {
   int fresh_segmentations = 0;
   int refined_frames = 0;  ///< frames whose pose was re-estimated against the settled map
   std::vector<double> refinement_ms;  ///< per frame, the refinement of earlier frames feed() did after its pose
+  std::array<std::vector<double>, kStageCount> stage_ms;  ///< per stage (core/profile.h), per frame
   bool use_lines = true, sequential = false, use_dynamic = false;
   std::string segmenter = "none";
   bool use_loop = false;

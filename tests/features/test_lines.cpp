@@ -268,6 +268,34 @@ TEST(Lines, RejectsBadInput) {
   bad = LineOptions();
   bad.max_lines = -1;
   EXPECT_THROW(bad.validate(), ConfigError);
+  bad = LineOptions();
+  bad.detector = "hough";
+  EXPECT_THROW(detectLines(img, cv::Mat(), bad), ConfigError);
+}
+
+TEST(Lines, BothDetectorsFindTheEdgeWithTheBrighterSideOnTheLeft) {
+  // A dark band on a bright background: its top edge has the bright side above. The merge
+  // and LBD rely on every detector giving the same direction for the same contrast.
+  cv::Mat img(480, 640, CV_8U, cv::Scalar(200));
+  cv::fillConvexPoly(img, std::vector<cv::Point>{{60, 150}, {580, 260}, {580, 300}, {60, 190}}, cv::Scalar(40), cv::LINE_AA);
+  const Vector2d a(60, 149.5), b(580, 259.5);
+  for (const char* detector : {"lsd", "fld"}) {
+    LineOptions o;
+    o.detector = detector;
+    int found = 0;
+    for (const LineSegment2D& s : detectLines(img, cv::Mat(), o)) {
+      if (pointLineDistance(0.5 * (s.p + s.q), a, b) > 2 || s.length < 400) continue;
+      ++found;
+      EXPECT_LT(endpointError(s, a, b), 3.0) << detector << ": " << s.p.transpose() << " - " << s.q.transpose();
+      // Walking p -> q, the left side in image axes (y down) is (dy, -dx): probe there.
+      const Vector2d d = s.q - s.p;
+      const Vector2d left(d.y(), -d.x());
+      const Vector2d mid = 0.5 * (s.p + s.q);
+      const Vector2d probe = mid + 5 * left.normalized();
+      EXPECT_GT(img.at<uint8_t>(int(std::lround(probe.y())), int(std::lround(probe.x()))), 120) << detector;
+    }
+    EXPECT_EQ(found, 1) << detector;
+  }
 }
 
 }  // namespace

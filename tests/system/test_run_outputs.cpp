@@ -46,6 +46,7 @@ TEST(RunOutputs, StatsJsonHasTheDocumentedFields) {
   const std::string json = statsToJson(s, "\"extra\": 1");
   for (const char* key : {"\"frames\": 10", "\"tracked\": 9", "\"keyframes\"", "\"lost_events\"", "\"tracking_ms\"",
                           "\"median\": 20", "\"p95\"", "\"features_ms\"", "\"line_reconstruction_rate\"", "\"fitting\"",
-                          "\"endpoints\"", "\"extra\": 1"})
+                          "\"endpoints\"", "\"extra\": 1", "\"stages_ms\"", "\"orb_detect\"", "\"lsd\"", "\"lbd\"",
+                          "\"dynamic\"", "\"search\"", "\"pose_optimisation\"", "\"keyframe\""})
     EXPECT_NE(json.find(key), std::string::npos) << key;
 }

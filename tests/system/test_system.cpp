@@ -106,6 +106,27 @@ TEST(SystemSynthetic, PointsOnlyStillTracks) {
   EXPECT_EQ(r.stats.map_lines, 0);
   EXPECT_EQ(r.stats.tracked, r.stats.frames);
   EXPECT_LT(r.ate, 0.01);
+  // The profile says where the time went: no line stage ran.
+  for (Stage st : {Stage::kLsd, Stage::kLineMerge, Stage::kLbd})
+    for (double ms : r.stats.stage_ms[static_cast<int>(st)]) EXPECT_EQ(ms, 0.0) << stageName(st);
+}
+
+TEST(SystemSynthetic, EveryTrackedFrameHasATimeForEachStageThatRan) {
+  const std::string dir = test::syntheticSequence(synth::SceneKind::kStatic, 120);
+  const PinholeCamera camera = loadCameraFile(dir + "/camera.xml");
+  SystemOptions threaded;  // the mode a robot runs: points and lines on two threads
+  threaded.sequential = false;
+  const RunResult r = runOn(dir, camera, threaded);
+  ASSERT_EQ(r.stats.tracked, r.stats.frames);
+  for (int i = 0; i < kStageCount; ++i) ASSERT_EQ(r.stats.stage_ms[i].size(), static_cast<size_t>(r.stats.frames));
+  // Every frame is extracted and checked; every frame but the first (which initialises the
+  // map) is searched for and optimised.
+  for (Stage st : {Stage::kOrbDetect, Stage::kOrbDescribe, Stage::kLsd, Stage::kLineMerge, Stage::kLbd, Stage::kUndistort,
+                   Stage::kDynamic})
+    for (double ms : r.stats.stage_ms[static_cast<int>(st)]) EXPECT_GT(ms, 0.0) << stageName(st);
+  for (Stage st : {Stage::kSearch, Stage::kPoseOptimisation})
+    for (size_t f = 1; f < r.stats.stage_ms[static_cast<int>(st)].size(); ++f)
+      EXPECT_GT(r.stats.stage_ms[static_cast<int>(st)][f], 0.0) << stageName(st) << " of frame " << f;
 }
 
 TEST(SystemRobustness, FramesWithoutDepthOrTextureGiveAStatusNotACrash) {

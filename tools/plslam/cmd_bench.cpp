@@ -5,6 +5,7 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -20,6 +21,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "core/profile.h"
 #include "eval/trajectory_plot.h"
 #include "io/dataset.h"
 #include "run_session.h"
@@ -59,7 +61,10 @@ struct RunFigures {
   double tracked_fraction = 0;
   double ate = kNaN, rpe_trans = kNaN, rpe_rot = kNaN;
   int ate_pairs = 0, rpe_pairs = 0;
-  double tracking_median = 0, tracking_p95 = 0, features_median = 0;
+  double tracking_median = 0, tracking_p95 = 0, tracking_max = 0, features_median = 0;
+  std::array<double, kStageCount> stage_median{};  ///< per stage (core/profile.h), median over the frames
+  double segmentation_median = kNaN;               ///< per segmented frame (on the segmenter's thread)
+  double local_ba_median = kNaN;                   ///< per keyframe (on the mapping thread)
   double wall_s = 0;
   std::string eval_error;
   Trajectory estimate;  ///< kept for the plot of the median run
@@ -265,7 +270,11 @@ void runSequence(const BenchSettings& settings, SequenceResult* result, bool* in
     const Summary tms = summarize(st.tracking_ms);
     r.tracking_median = tms.median;
     r.tracking_p95 = tms.p95;
+    r.tracking_max = tms.max;
     r.features_median = summarize(st.features_ms).median;
+    for (int i = 0; i < kStageCount; ++i) r.stage_median[i] = summarize(st.stage_ms[i]).median;
+    if (!st.segmentation_ms.empty()) r.segmentation_median = summarize(st.segmentation_ms).median;
+    if (!st.ba_ms.empty()) r.local_ba_median = summarize(st.ba_ms).median;
     if (ev.ok) {
       r.ate = ev.result.ate.stats.rmse;
       r.ate_pairs = ev.result.ate.stats.count;
@@ -332,6 +341,32 @@ std::string markdownTable(const std::vector<SequenceResult>& results, const Benc
   return os.str();
 }
 
+/// Where the time goes (the role of PLY-SLAM's Table 8): per row, medians over the runs of
+/// each run's per-frame median, per stage; the stages on the two extraction threads overlap.
+std::string profileTable(const std::vector<SequenceResult>& results) {
+  std::ostringstream os;
+  os << "| sequence | tracking | tracking max | features + dynamic |";
+  for (int i = 0; i < kStageCount; ++i) os << " " << stageName(static_cast<Stage>(i)) << " |";
+  os << " segmentation (own thread) | local BA per keyframe (own thread) |\n|---|---|---|---|";
+  for (int i = 0; i < kStageCount; ++i) os << "---|";
+  os << "---|---|\n";
+  auto median = [](const std::vector<RunFigures>& r, auto f) {
+    const Spread s = spread(collect(r, f));
+    return s.count ? format("%.1f", s.median) : std::string("-");
+  };
+  for (const SequenceResult& s : results) {
+    if (s.runs.empty()) continue;
+    const auto& r = s.runs;
+    os << "| " << s.spec.name << " | " << median(r, [](const RunFigures& x) { return x.tracking_median; }) << " | "
+       << median(r, [](const RunFigures& x) { return x.tracking_max; }) << " | "
+       << median(r, [](const RunFigures& x) { return x.features_median; }) << " |";
+    for (int i = 0; i < kStageCount; ++i) os << " " << median(r, [i](const RunFigures& x) { return x.stage_median[i]; }) << " |";
+    os << " " << median(r, [](const RunFigures& x) { return x.segmentation_median; }) << " | "
+       << median(r, [](const RunFigures& x) { return x.local_ba_median; }) << " |\n";
+  }
+  return os.str();
+}
+
 std::string resultsJson(const std::vector<SequenceResult>& results, const std::vector<std::string>& notes,
                         const BenchSettings& settings, const std::string& shared, double peak_mb, double wall_s,
                         bool interrupted) {
@@ -378,8 +413,12 @@ std::string resultsJson(const std::vector<SequenceResult>& results, const std::v
          << ", \"poses\": " << x.estimate.size() << ", \"tracked_fraction\": " << jsonNumber(x.tracked_fraction)
          << ", \"keyframes\": " << x.keyframes << ", \"skipped_frames\": " << x.skipped_frames
          << ", \"tracking_ms\": {\"median\": " << jsonNumber(x.tracking_median)
-         << ", \"p95\": " << jsonNumber(x.tracking_p95) << "}, \"features_ms_median\": "
-         << jsonNumber(x.features_median) << ", \"wall_s\": " << jsonNumber(x.wall_s)
+         << ", \"p95\": " << jsonNumber(x.tracking_p95) << ", \"max\": " << jsonNumber(x.tracking_max)
+         << "}, \"features_ms_median\": " << jsonNumber(x.features_median) << ", \"stages_ms_median\": {";
+      for (int st = 0; st < kStageCount; ++st)
+        os << (st ? ", " : "") << jsonQuote(stageName(static_cast<Stage>(st))) << ": " << jsonNumber(x.stage_median[st]);
+      os << "}, \"segmentation_ms_median\": " << jsonNumber(x.segmentation_median)
+         << ", \"local_ba_ms_median\": " << jsonNumber(x.local_ba_median) << ", \"wall_s\": " << jsonNumber(x.wall_s)
          << ", \"eval_error\": " << (x.eval_error.empty() ? "null" : jsonQuote(x.eval_error)) << "}";
     }
     os << "]}";
@@ -544,6 +583,10 @@ int runBench(int argc, char** argv) {
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - bench_t0).count();
   const double peak_mb = peakRssMb();
   const std::string table_md = markdownTable(results, settings);
+  const std::string profile_md =
+      "\nWhere a frame's time goes, ms (medians over the runs of each run's per-frame median; ORB and the dynamic "
+      "check on one thread overlap LSD, merge and LBD on the other):\n\n" +
+      profileTable(results);
   std::ostringstream under;
   under << "\n" << (settings.options.sequential ? "Sequential" : "Threaded") << " mode, " << settings.runs
         << (settings.runs == 1 ? " run" : " runs") << " per sequence: median (min-max) over the runs; RPE over 1 s "
@@ -558,9 +601,9 @@ int runBench(int argc, char** argv) {
   for (const std::string& n : notes) under << "- " << n << "\n";
   if (interrupted) under << "- interrupted by Ctrl-C: the table holds what was done\n";
 
-  std::cout << table_md << under.str();
+  std::cout << table_md << profile_md << under.str();
   std::cout.flush();
-  writeFileAtomically(settings.out + "/results.md", "# plslam bench\n\n" + table_md + under.str());
+  writeFileAtomically(settings.out + "/results.md", "# plslam bench\n\n" + table_md + profile_md + under.str());
   writeFileAtomically(settings.out + "/results.json",
                       resultsJson(results, notes, settings, shared, peak_mb, wall_s, interrupted));
   std::fprintf(stderr, "[bench] wrote %s/results.md and results.json\n", settings.out.c_str());
