@@ -4,6 +4,7 @@
 #include <cmath>
 #include <opencv2/calib3d.hpp>
 #include <set>
+#include <unordered_set>
 
 #include "core/log.h"
 #include "features/matching.h"
@@ -62,11 +63,17 @@ TrackingResult Tracker::trackInitialised(TimeNs t_ns, const FrameFeatures& f) {
   if (r.reason.empty()) {
     if (!lost_) {
       T_w_c = have_velocity_ ? T_w_last_ * velocity_ : T_w_last_;
-      searchLocalMap(T_w_c, f, options_.wide_radius_px, &m, false);
+      LocalMap local;
+      {
+        const StageTimer timer(&times_, Stage::kSearch);
+        std::lock_guard<std::mutex> lock(map_->mutex());
+        local = collectLocalMap();
+      }
+      searchLocalMap(local, T_w_c, f, options_.wide_radius_px, &m, false);
       PoseOnlyResult pr = optimise(T_w_c, f, &m);
       if (pr.converged) {
         T_w_c = pr.T_w_c;
-        searchLocalMap(T_w_c, f, options_.narrow_radius_px, &m, true);
+        searchLocalMap(local, T_w_c, f, options_.narrow_radius_px, &m, true);
         pr = optimise(T_w_c, f, &m);
         if (pr.converged) {
           T_w_c = pr.T_w_c;
@@ -194,23 +201,38 @@ void Tracker::updateReferenceKeyframe(const Matches& m) {
     if (n > best) best = n, reference_kf_ = kf;
 }
 
+Tracker::LocalMap Tracker::collectLocalMap() const {
+  LocalMap local;
+  std::unordered_set<Id> ps, ls;
+  for (Id kf : localKeyframes()) {
+    const KeyFrame* k = map_->keyframe(kf);
+    if (!k) continue;
+    for (Id p : k->point_ids)
+      if (p != kNoId && ps.insert(p).second) local.point_ids.push_back(p);
+    for (Id l : k->line_ids)
+      if (l != kNoId && ls.insert(l).second) local.line_ids.push_back(l);
+  }
+  return local;
+}
+
 void Tracker::searchLocalMap(const SE3& T_w_c, const FrameFeatures& f, double radius, Matches* m, bool count_visible) {
+  LocalMap local;
+  {
+    const StageTimer timer(&times_, Stage::kSearch);
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    local = collectLocalMap();
+  }
+  searchLocalMap(local, T_w_c, f, radius, m, count_visible);
+}
+
+void Tracker::searchLocalMap(const LocalMap& local, const SE3& T_w_c, const FrameFeatures& f, double radius, Matches* m,
+                             bool count_visible) {
   const StageTimer timer(&times_, Stage::kSearch);
   std::lock_guard<std::mutex> lock(map_->mutex());
   if (m->point_ids.size() != f.points.size()) m->point_ids.assign(f.points.size(), kNoId);
   if (m->line_ids.size() != f.lines.size()) m->line_ids.assign(f.lines.size(), kNoId);
-  std::vector<Id> point_ids, line_ids;
-  {
-    std::set<Id> ps, ls;
-    for (Id kf : localKeyframes()) {
-      const KeyFrame* k = map_->keyframe(kf);
-      if (!k) continue;
-      for (Id p : k->point_ids)
-        if (p != kNoId && ps.insert(p).second) point_ids.push_back(p);
-      for (Id l : k->line_ids)
-        if (l != kNoId && ls.insert(l).second) line_ids.push_back(l);
-    }
-  }
+  const std::vector<Id>& point_ids = local.point_ids;
+  const std::vector<Id>& line_ids = local.line_ids;
   const SE3 T_c_w = T_w_c.inverse();
   // Landmarks matched in an earlier pass keep their keypoint; the rest are searched among
   // the keypoints still free.
@@ -220,8 +242,10 @@ void Tracker::searchLocalMap(const SE3& T_w_c, const FrameFeatures& f, double ra
   std::vector<Id> predicted_ids;
   std::vector<PointPrediction> predictions;
   cv::Mat predicted_desc;
+  predicted_desc.reserve(point_ids.size());
   for (Id id : point_ids) {
     MapPoint* p = map_->point(id);
+    if (!p) continue;  // culled by the mapper since the local map was taken
     const Eigen::Vector3d p_c = T_c_w * p->p_w;
     if (p_c.z() < 0.1) continue;
     const Eigen::Vector2d uv = camera_.projectIdeal(p_c);
@@ -259,8 +283,10 @@ void Tracker::searchLocalMap(const SE3& T_w_c, const FrameFeatures& f, double ra
   std::vector<Id> line_pred_ids;
   std::vector<LineSegment2D> line_preds;
   cv::Mat line_pred_desc;
+  line_pred_desc.reserve(line_ids.size());
   for (Id id : line_ids) {
     MapLine* l = map_->line(id);
+    if (!l) continue;
     Eigen::Vector3d P = T_c_w * l->P_w, Q = T_c_w * l->Q_w;
     if (P.z() < 0.1 && Q.z() < 0.1) continue;
     // Clip the part behind the camera so the projection stays meaningful.

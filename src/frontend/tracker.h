@@ -123,6 +123,15 @@ class Tracker {
   /// track() once the map exists: motion model or relocalisation, then the keyframe decision.
   TrackingResult trackInitialised(TimeNs t_ns, const FrameFeatures& f);
   std::vector<Id> localKeyframes() const;
+  /// The landmarks of the local keyframes, in first-seen order (caller holds the map lock).
+  struct LocalMap {
+    std::vector<Id> point_ids, line_ids;
+  };
+  LocalMap collectLocalMap() const;
+  /// Projection search of `local` (taken once per frame: both passes search the same map).
+  void searchLocalMap(const LocalMap& local, const SE3& T_w_c, const FrameFeatures& f, double radius, Matches* m,
+                      bool count_visible);
+  /// searchLocalMap over the local map as it is now.
   void searchLocalMap(const SE3& T_w_c, const FrameFeatures& f, double radius, Matches* m, bool count_visible);
   PoseOnlyResult optimise(const SE3& T_w_c, const FrameFeatures& f, Matches* m);
   bool relocalise(const FrameFeatures& f, SE3* T_w_c, Matches* m);

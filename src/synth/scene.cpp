@@ -266,7 +266,7 @@ SE3 Scene::cameraPoseAt(TimeNs t_ns) const {
   const double t = nsToSeconds(t_ns - options_.start_ns);
   switch (kind_) {
     case SceneKind::kLoop: {
-      const double lap_s = std::max(1, options_.frames - 1) / 30.0;
+      const double lap_s = std::max(1, options_.frames - 1) / 30.0 / options_.laps;
       const double th = kTwoPi * t / lap_s;
       const Eigen::Vector3d p(-0.2 + 0.9 * std::cos(th), -0.2 + 0.7 * std::sin(th), 1.4 + 0.06 * std::sin(2 * th));
       return lookPose(p, th + 5 * kDeg * std::sin(2 * th), (-8 + 4 * std::sin(3 * th)) * kDeg,
@@ -386,8 +386,9 @@ std::string Scene::describe() const {
      << "# person lines: instance_id class_id class_name walk centre(x y) semi_axes(a b) period_s phase_rad\n"
      << "scene " << sceneKindName(kind_) << "\n"
      << "seed " << options_.seed << "\n"
-     << "frames " << options_.frames << "\n"
-     << "rate_hz 30\n"
+     << "frames " << options_.frames << "\n";
+  if (options_.laps != 1) os << "laps " << options_.laps << "\n";  // absent for one lap: older scene.txt files still match
+  os << "rate_hz 30\n"
      << "camera " << camera_.name << " " << camera_.width << "x" << camera_.height << " fx " << camera_.fx << " fy "
      << camera_.fy << " cx " << camera_.cx << " cy " << camera_.cy << "\n";
   const auto& n = options_.noise;
@@ -448,6 +449,8 @@ Scene makeScene(SceneKind kind, const SceneOptions& options) {
     throw ConfigError(str("synthetic scene: frames must be in [1, 1000000], got ", options.frames));
   if (options.width < 16 || options.height < 16 || options.width > 8192 || options.height > 8192)
     throw ConfigError(str("synthetic scene: image size ", options.width, "x", options.height, " out of range"));
+  if (options.laps < 1 || options.laps > 10000)
+    throw ConfigError(str("synthetic scene: laps must be in [1, 10000], got ", options.laps));
   if (options.aa_samples < 1 || options.aa_samples > 16)
     throw ConfigError(str("synthetic scene: aa_samples must be in [1, 16], got ", options.aa_samples));
   const auto& n = options.noise;

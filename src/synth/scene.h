@@ -56,7 +56,8 @@ struct DepthNoiseOptions {
 };
 
 struct SceneOptions {
-  int frames = 300;            ///< number of frames, 30 Hz (loop: the lap spans all of them)
+  int frames = 300;            ///< number of frames, 30 Hz (loop: the laps span all of them)
+  int laps = 1;                ///< loop scene: laps round the room over the frames (long-run tests)
   uint64_t seed = 1;           ///< textures and noise (not the geometry or the paths)
   int width = 640;             ///< image size; the focal length scales with the width (525 at 640)
   int height = 480;            ///< image height, pixels

@@ -71,6 +71,28 @@ std::string statsToJson(const RunStats& s, const std::string& extra) {
   return os.str();
 }
 
+std::string framesToCsv(const std::vector<FrameRecord>& records) {
+  std::ostringstream os;
+  os << "t_s,status,tracking_ms,features_ms";
+  for (int i = 0; i < kStageCount; ++i) os << "," << stageName(static_cast<Stage>(i)) << "_ms";
+  os << ",refinement_ms,segmentation_ms,mask_age_frames,keyframes_before,points,lines,matched_points,matched_lines,"
+        "dynamic_points_rejected\n";
+  char buf[64];
+  auto number = [&](double x) {
+    std::snprintf(buf, sizeof(buf), "%.3f", x);
+    return std::string(buf);
+  };
+  for (const FrameRecord& r : records) {
+    std::snprintf(buf, sizeof(buf), "%.6f", nsToSeconds(r.t_ns));
+    os << buf << "," << toString(r.status) << "," << number(r.tracking_ms) << "," << number(r.features_ms);
+    for (int i = 0; i < kStageCount; ++i) os << "," << number(r.stages.ms[i]);
+    os << "," << number(r.refinement_ms) << "," << (r.segmentation_ms >= 0 ? number(r.segmentation_ms) : "")
+       << "," << r.mask_age_frames << "," << r.keyframes_before << "," << r.points << "," << r.lines << ","
+       << r.matched_points << "," << r.matched_lines << "," << r.dynamic_points_rejected << "\n";
+  }
+  return os.str();
+}
+
 std::string sparseMapToPly(const Map& map) {
   std::lock_guard<std::mutex> lock(map.mutex());
   const size_t np = map.points().size(), nl = map.lines().size();
@@ -103,6 +125,7 @@ void writeRunOutputs(const std::string& dir, const System& system, const std::st
   writeTumTrajectory(dir + "/keyframes.txt", system.keyframeTrajectory(), "plslam keyframes, T_w_c");
   writeFileAtomically(dir + "/sparse_map.ply", sparseMapToPly(system.map()));
   writeFileAtomically(dir + "/stats.json", statsToJson(system.stats(), stats_extra));
+  writeFileAtomically(dir + "/frames.csv", framesToCsv(system.records()));
   if (!config_yaml.empty()) writeFileAtomically(dir + "/config.yaml", config_yaml);
   saveMap(map_path.empty() ? dir + "/" + kDefaultMapFileName : map_path, system.map(), system.camera(), config_yaml);
 }

@@ -20,6 +20,10 @@ namespace plslam {
 /// appended for the caller's own fields (dataset, ATE...).
 std::string statsToJson(const RunStats& stats, const std::string& extra = "");
 /// The sparse map as ASCII PLY (points and lines, see above).
+/// One CSV line per input frame (header first): time, status, tracking and feature times, the
+/// time of each stage (core/profile.h), segmentation, counts. What `frames.csv` holds.
+std::string framesToCsv(const std::vector<FrameRecord>& records);
+
 std::string sparseMapToPly(const Map& map);
 /// Writes trajectory.txt, keyframes.txt, sparse_map.ply, stats.json (and config.yaml when
 /// `config_yaml` is not empty) into `dir` (created if needed), and the map to `map_path`

@@ -6,6 +6,7 @@
 #include "core/bounded_queue.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "core/thread_priority.h"
 #include "dense/keyframe_cloud.h"
 #include "dynamic/semantic_labels.h"
 
@@ -76,6 +77,8 @@ System::System(PinholeCamera camera, SystemOptions options) : System(std::move(c
 
 System::System(PinholeCamera camera, SystemOptions options, Map map)
     : camera_(std::move(camera)), options_(std::move(options)), map_(std::move(map)) {
+  if (options_.background_nice < 0 || options_.background_nice > 19)
+    throw ConfigError(str("system.background_nice must be in 0..19 (got ", options_.background_nice, ")"));
   if (options_.refine_after_keyframes < 0 || options_.refine_after_frames < 0)
     throw ConfigError(str("system.refine_after_keyframes and system.refine_after_frames must be >= 0 (got ",
                           options_.refine_after_keyframes, " and ", options_.refine_after_frames, ")"));
@@ -100,12 +103,15 @@ void System::start() {
   if (pipeline_->started) return;
   pipeline_->started = true;
   if (options_.sequential) return;
-  pipeline_->mapping_thread = std::thread([p = pipeline_.get()] {
+  const int nice = options_.background_nice;
+  pipeline_->mapping_thread = std::thread([p = pipeline_.get(), nice] {
+    if (!setThisThreadNice(nice)) kLog.debug("mapping thread: the scheduler refused system.background_nice");
     while (auto job = p->queue.pop()) p->processKeyframe(*job);
     p->loop_queue.close();  // the loop thread finishes what the mapper handed it
   });
   if (pipeline_->loop)
-    pipeline_->loop_thread = std::thread([p = pipeline_.get()] {
+    pipeline_->loop_thread = std::thread([p = pipeline_.get(), nice] {
+      if (!setThisThreadNice(nice)) kLog.debug("loop thread: the scheduler refused system.background_nice");
       while (auto id = p->loop_queue.pop()) p->loop->processKeyframe(*id);
     });
 }

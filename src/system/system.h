@@ -41,6 +41,9 @@ struct SystemOptions {
   bool sequential = false;      ///< run every stage on the caller's thread in a fixed order (deterministic)
   bool use_lines = true;        ///< use line features (tracking, mapping)
   int mapping_queue = 8;        ///< keyframes waiting for the local mapper before tracking waits
+  /// Nice value of the mapping and loop threads (core/thread_priority.h): the scheduler then
+  /// prefers the tracking threads when the cores are busy. 0 = the same priority as tracking.
+  int background_nice = 5;
   FeatureOptions features;      ///< ORB and line extraction
   TrackerOptions tracker;       ///< tracking
   LocalMapperOptions mapper;    ///< local mapping

@@ -56,6 +56,8 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
   t->bind("system.refine_frames", &o->refine_frames, "re-estimate each frame's pose once local BA has refined its landmarks");
   t->bind("system.refine_after_keyframes", &o->refine_after_keyframes, "refine a frame when this many keyframes have been made since it");
   t->bind("system.refine_after_frames", &o->refine_after_frames, "... or this many frames");
+  t->bind("system.background_nice", &o->background_nice,
+          "nice value (0-19) of the mapping and loop threads, so that tracking wins the cores when both want them");
   t->bind("loop.vocabulary", &l.vocabulary, "bag-of-words vocabulary file (empty: vocab/plslam_orb_lbd.voc of the sources)");
   t->bind("loop.point_weight", &l.point_weight, "weight of the ORB similarity in the combined score");
   t->bind("loop.line_weight", &l.line_weight, "weight of the LBD similarity in the combined score");

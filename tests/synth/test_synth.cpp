@@ -229,6 +229,23 @@ TEST(SynthScene, LoopEndsWhereItStartedAfterGoingRoundTheRoom) {
   EXPECT_GT(turned, 1.9 * M_PI) << "the loop should look all round the room";
 }
 
+TEST(SynthScene, LapsRevisitTheSameWayEachLap) {
+  SceneOptions o = exact(3 * 150 + 1);
+  o.laps = 3;
+  const Scene s = makeScene(SceneKind::kLoop, o);
+  const Trajectory gt = s.groundTruth();
+  // Frame i and frame i + 150 are the same pose one lap apart; half a lap away is far.
+  for (int i : {0, 40, 150, 299}) {
+    const SE3 d = gt[i].T_w_c.inverse() * gt[i + 150].T_w_c;
+    EXPECT_LT(d.translation().norm(), 1e-6) << i;
+    EXPECT_LT(d.angle(), 1e-6) << i;
+  }
+  EXPECT_GT((gt[0].T_w_c.translation() - gt[75].T_w_c.translation()).norm(), 1.0);
+  EXPECT_NE(s.describe().find("laps 3"), std::string::npos);
+  o.laps = 0;
+  EXPECT_THROW(makeScene(SceneKind::kLoop, o), ConfigError);
+}
+
 TEST(SynthScene, CameraMovesAtHandheldSpeedsAndSeesSurfacesAtUsefulRange) {
   for (SceneKind kind : {SceneKind::kStatic, SceneKind::kDynamic, SceneKind::kLoop, SceneKind::kCrowded}) {
     const Scene s = makeScene(kind, exact(defaultFrameCount(kind)));

@@ -30,6 +30,7 @@ int runRun(int argc, char** argv) {
       .option("config", "YAML run options (plslam run --print-config shows every key)")
       .option("max-frames", "process only the first N frames (0 = all)", "0")
       .flag("sequential", "deterministic single-thread order (identical output across runs)")
+      .flag("realtime", "feed each frame at its recorded time, as a camera would (the mapping threads get the time between frames)")
       .flag("no-lines", "points only: no line features")
       .option("segmenter", "instance masks: none, replay (the folder's masks/, as plslam synth writes), or a YOLOv8-seg .onnx file",
               "none")
@@ -130,7 +131,7 @@ int runRun(int argc, char** argv) {
       std::fprintf(stderr, "\r[run] frame %zu/%zu  tracked %d  keyframes %zu  %.1f frames/s  ", p.done, p.total,
                    p.tracked, p.keyframes, p.done / std::max(p.seconds, 1e-9));
       std::fflush(stderr);
-    });
+    }, 500, args.has("realtime") ? Pace::kRecorded : Pace::kAsFastAsPossible);
     if (progress) std::fprintf(stderr, "\n");
   }
   if (fed.interrupted) std::fprintf(stderr, "[run] interrupted: finishing and writing what there is\n");

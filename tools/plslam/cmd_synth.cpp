@@ -19,6 +19,7 @@ int runSynth(int argc, char** argv) {
   args.option("scene", "static, dynamic, loop or crowded", "static")
       .option("frames", "number of frames at 30 Hz [default: 300; loop: 450, one lap]")
       .option("out", "output folder (TUM layout: rgb/ depth/ masks/ rgb.txt depth.txt masks.txt groundtruth.txt ...)")
+      .option("laps", "loop scene: laps round the room over the frames (e.g. --frames 5000 --laps 11 for a long run)", "1")
       .option("seed", "seed of the textures and the noise", "1")
       .flag("no-noise", "exact depth: no depth noise, no dropouts, no colour noise")
       .flag("twin-shelf", "add copies of the shelf's boxes and books (same textures) on the floor by the south wall, in another layout")
@@ -49,6 +50,8 @@ int runSynth(int argc, char** argv) {
   opt.height = args.integer("height", 16, 8192);
   opt.noise.enabled = !args.has("no-noise");
   opt.twin_shelf = args.has("twin-shelf");
+  opt.laps = args.integer("laps", 1, 10000);
+  if (opt.laps != 1 && kind != synth::SceneKind::kLoop) throw ConfigError("plslam synth: --laps is for the loop scene");
   const synth::Scene scene = synth::makeScene(kind, opt);
 
   if (args.has("out")) {

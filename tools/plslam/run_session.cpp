@@ -6,7 +6,9 @@
 #include <csignal>
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <sstream>
+#include <thread>
 
 #include "core/error.h"
 #include "frontend/tracker.h"
@@ -45,7 +47,7 @@ SigintGuard::~SigintGuard() { std::signal(SIGINT, previous_ == SIG_ERR ? SIG_DFL
 bool SigintGuard::interrupted() { return g_interrupted; }
 
 FeedResult feedFrames(System* slam, TumDataset* dataset, const std::function<void(const FeedProgress&)>& progress,
-                      int period_ms) {
+                      int period_ms, Pace pace) {
   FeedResult result;
   const auto t0 = std::chrono::steady_clock::now();
   auto last_report = t0;
@@ -65,7 +67,12 @@ FeedResult feedFrames(System* slam, TumDataset* dataset, const std::function<voi
     progress(p);
   };
   RgbdFrame frame;
+  std::optional<TimeNs> first_stamp;
   while (!g_interrupted && dataset->next(&frame)) {
+    if (pace == Pace::kRecorded) {
+      if (!first_stamp) first_stamp = frame.t_ns;
+      std::this_thread::sleep_until(t0 + std::chrono::nanoseconds(frame.t_ns - *first_stamp));
+    }
     const TrackingResult r = slam->feed(frame);
     ++result.fed;
     result.tracked += isTracked(r.status);

@@ -58,11 +58,18 @@ struct FeedResult {
   std::string last_failure;  ///< the tracker's reason for the last frame it could not track (empty: none)
 };
 
+/// How frames are handed to the System.
+enum class Pace {
+  kAsFastAsPossible,  ///< the next frame as soon as the last one is tracked (offline processing)
+  kRecorded,          ///< each frame at its recorded time after the first, as a camera delivers them; a
+                      ///< frame that is late is fed at once (no catching up by skipping)
+};
+
 /// Feeds every loadable frame of `dataset` (from its current position) to the started
 /// `slam`; stops early on Ctrl-C while a SigintGuard lives. `progress` (may be empty) is
 /// called at most every `period_ms` and once after the last frame.
 FeedResult feedFrames(System* slam, TumDataset* dataset, const std::function<void(const FeedProgress&)>& progress,
-                      int period_ms = 500);
+                      int period_ms = 500, Pace pace = Pace::kAsFastAsPossible);
 
 /// The comparison of a run's trajectory with the folder's ground truth.
 struct RunEvaluation {
