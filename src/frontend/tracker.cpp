@@ -162,7 +162,15 @@ TrackingResult Tracker::initialise(TimeNs t_ns, const FrameFeatures& f) {
   return r;
 }
 
-std::vector<Id> Tracker::localKeyframes() const {
+const std::vector<std::pair<Id, int>>& Tracker::referenceCovisible() {
+  if (covisible_of_ != reference_kf_) {
+    covisible_ = map_->covisible(reference_kf_, 15);
+    covisible_of_ = reference_kf_;
+  }
+  return covisible_;
+}
+
+std::vector<Id> Tracker::localKeyframes() {
   // The reference keyframe, its best covisible keyframes and the most recent ones.
   std::vector<Id> out;
   std::set<Id> seen;
@@ -170,7 +178,7 @@ std::vector<Id> Tracker::localKeyframes() const {
     if (static_cast<int>(out.size()) < options_.local_keyframes * 2 && seen.insert(id).second) out.push_back(id);
   };
   add(reference_kf_);
-  const auto cov = map_->covisible(reference_kf_, 15);
+  const auto& cov = referenceCovisible();
   for (size_t i = 0; i < cov.size() && static_cast<int>(i) < options_.local_keyframes; ++i) add(cov[i].first);
   const auto& kfs = map_->keyframes();
   if (options_.localization_only) {
@@ -201,7 +209,7 @@ void Tracker::updateReferenceKeyframe(const Matches& m) {
     if (n > best) best = n, reference_kf_ = kf;
 }
 
-Tracker::LocalMap Tracker::collectLocalMap() const {
+Tracker::LocalMap Tracker::collectLocalMap() {
   LocalMap local;
   std::unordered_set<Id> ps, ls;
   for (Id kf : localKeyframes()) {

@@ -122,12 +122,17 @@ class Tracker {
   TrackingResult initialise(TimeNs t_ns, const FrameFeatures& f);
   /// track() once the map exists: motion model or relocalisation, then the keyframe decision.
   TrackingResult trackInitialised(TimeNs t_ns, const FrameFeatures& f);
-  std::vector<Id> localKeyframes() const;
+  std::vector<Id> localKeyframes();
+  /// The reference keyframe's covisible keyframes (>= 15 shared points), computed once per
+  /// reference: the count runs over every observation of its points, which grows with every
+  /// revisit of the place, while what changes it between keyframes (culling, BA outliers) is
+  /// rare. Caller holds the map lock.
+  const std::vector<std::pair<Id, int>>& referenceCovisible();
   /// The landmarks of the local keyframes, in first-seen order (caller holds the map lock).
   struct LocalMap {
     std::vector<Id> point_ids, line_ids;
   };
-  LocalMap collectLocalMap() const;
+  LocalMap collectLocalMap();
   /// Projection search of `local` (taken once per frame: both passes search the same map).
   void searchLocalMap(const LocalMap& local, const SE3& T_w_c, const FrameFeatures& f, double radius, Matches* m,
                       bool count_visible);
@@ -153,6 +158,8 @@ class Tracker {
   int lost_events_ = 0, relocalisations_ = 0;
   bool search_all_keyframes_ = false;  // relocalise against every keyframe (loaded map, not tracked yet)
   StageTimes times_;  // the current frame's stage times (searchLocalMap and optimise add to them)
+  Id covisible_of_ = kNoId;  // the keyframe covisible_ was computed for
+  std::vector<std::pair<Id, int>> covisible_;
 };
 
 }  // namespace plslam
