@@ -14,6 +14,8 @@ void bindFeatureOptions(OptionTable* t, FeatureOptions* o) {
   t->bind("features.orb_min_fast_threshold", &o->orb.min_fast_threshold, "FAST threshold retried on weak images");
   t->bind("features.line_detector", &o->lines.detector, "segment detector: lsd or fld (FastLineDetector)");
   t->bind("features.line_detect_scale", &o->lines.detect_scale, "the segment detector runs on the image resized by this");
+  t->bind("features.line_lsd_quant", &o->lines.lsd_quant, "LSD: gradient quantisation bound; larger ignores weaker edges and runs faster");
+  t->bind("features.line_lbd_scale", &o->lines.lbd_scale, "LBD runs on the image resized by this");
   t->bind("features.line_fld_min_length_px", &o->lines.fld_min_length_px, "FLD: shortest segment, pixels of the resized image");
   t->bind("features.line_fld_canny_low", &o->lines.fld_canny_low, "FLD: Canny's low hysteresis threshold");
   t->bind("features.line_fld_canny_high", &o->lines.fld_canny_high, "FLD: Canny's high hysteresis threshold");

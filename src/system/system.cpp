@@ -53,9 +53,26 @@ struct System::Pipeline {
       if (KeyFrame* kf = map->keyframe(job.keyframe)) kf->dense = std::move(cloud);
     }
     mapper.processKeyframe(job.keyframe, job.depth_m);
-    if (!loop) return;
-    if (sequential) loop->processKeyframe(job.keyframe);
-    else loop_queue.push(job.keyframe);  // the loop thread: local mapping never waits for a loop search
+    if (loop) {
+      if (sequential) loop->processKeyframe(job.keyframe);
+      else loop_queue.push(job.keyframe);  // the loop thread: local mapping never waits for a loop search
+    }
+    if (keyframe_observer) keyframe_observer(job.keyframe);
+  }
+  /// A worker's exception: the first one is kept, and the queues close so that every thread
+  /// stops instead of waiting on a stage that is gone; feed() and finish() rethrow it.
+  void fail(const char* stage, const std::exception& e) {
+    {
+      std::lock_guard<std::mutex> lock(failure_mutex);
+      if (failure.empty()) failure = str(stage, " thread failed: ", e.what(), "; the pipeline stopped");
+    }
+    kLog.error(str(stage, " thread failed: ", e.what()));
+    queue.close();
+    loop_queue.close();
+  }
+  void rethrowFailure() {
+    std::lock_guard<std::mutex> lock(failure_mutex);
+    if (!failure.empty()) throw Error(failure);
   }
   Tracker tracker;
   LocalMapper mapper;
@@ -71,6 +88,9 @@ struct System::Pipeline {
   bool started = false, finished = false;
   std::unique_ptr<LoopCloser> loop;  ///< null without loop closure
   std::mutex tracking_mutex;         ///< held while a frame is tracked; loop corrections wait for it
+  std::function<void(Id)> keyframe_observer;  ///< see System::setKeyframeObserver
+  std::mutex failure_mutex;
+  std::string failure;               ///< the first worker failure (empty: none)
 };
 
 System::System(PinholeCamera camera, SystemOptions options) : System(std::move(camera), std::move(options), Map()) {}
@@ -96,7 +116,12 @@ System::System(PinholeCamera camera, SystemOptions options, Map map)
 }
 
 System::~System() {
-  if (pipeline_ && pipeline_->started && !pipeline_->finished) finish();
+  if (!pipeline_ || !pipeline_->started || pipeline_->finished) return;
+  try {
+    finish();
+  } catch (const std::exception& e) {
+    kLog.error(str("System destroyed unfinished: ", e.what()));
+  }
 }
 
 void System::start() {
@@ -106,19 +131,28 @@ void System::start() {
   const int nice = options_.background_nice;
   pipeline_->mapping_thread = std::thread([p = pipeline_.get(), nice] {
     if (!setThisThreadNice(nice)) kLog.debug("mapping thread: the scheduler refused system.background_nice");
-    while (auto job = p->queue.pop()) p->processKeyframe(*job);
+    try {
+      while (auto job = p->queue.pop()) p->processKeyframe(*job);
+    } catch (const std::exception& e) {
+      p->fail("mapping", e);
+    }
     p->loop_queue.close();  // the loop thread finishes what the mapper handed it
   });
   if (pipeline_->loop)
     pipeline_->loop_thread = std::thread([p = pipeline_.get(), nice] {
       if (!setThisThreadNice(nice)) kLog.debug("loop thread: the scheduler refused system.background_nice");
-      while (auto id = p->loop_queue.pop()) p->loop->processKeyframe(*id);
+      try {
+        while (auto id = p->loop_queue.pop()) p->loop->processKeyframe(*id);
+      } catch (const std::exception& e) {
+        p->fail("loop closure", e);
+      }
     });
 }
 
 TrackingResult System::feed(const RgbdFrame& frame, const cv::Mat& mask) {
   if (!pipeline_->started) start();
   if (pipeline_->finished) throw Error("System::feed after finish()");
+  pipeline_->rethrowFailure();
   const auto t0 = std::chrono::steady_clock::now();
   FrameRecord rec;
   rec.t_ns = frame.t_ns;
@@ -175,19 +209,27 @@ TrackingResult System::feed(const RgbdFrame& frame, const cv::Mat& mask) {
     cv::Mat classes = pipeline_->dense.enabled ? classImage(dyn.segmentation) : cv::Mat();
     if (options_.sequential)
       pipeline_->processKeyframe({r.keyframe_id, frame.depth_m, frame.bgr, dyn.mask, std::move(classes)});
-    else  // the mapping thread gets its own pixels (see KeyframeJob)
-      pipeline_->queue.push({r.keyframe_id, frame.depth_m.clone(), frame.bgr.clone(), dyn.mask.clone(), std::move(classes)});
+    else if (!pipeline_->queue.push(  // the mapping thread gets its own pixels (see KeyframeJob)
+                 {r.keyframe_id, frame.depth_m.clone(), frame.bgr.clone(), dyn.mask.clone(), std::move(classes)}))
+      pipeline_->rethrowFailure();  // closed: the mapping thread stopped
   }
   return r;
 }
 
 void System::finish() {
-  if (!pipeline_->started || pipeline_->finished) return;
+  if (!pipeline_->started) return;
+  if (pipeline_->finished) return pipeline_->rethrowFailure();
   pipeline_->finished = true;
   pipeline_->queue.close();
   if (pipeline_->mapping_thread.joinable()) pipeline_->mapping_thread.join();
   if (pipeline_->loop_thread.joinable()) pipeline_->loop_thread.join();
   if (options_.refine_frames) refineSettledFrames(0, 0, records_.size());
+  pipeline_->rethrowFailure();
+}
+
+void System::setKeyframeObserver(std::function<void(Id)> observer) {
+  if (pipeline_->started) throw Error("System::setKeyframeObserver after start()");
+  pipeline_->keyframe_observer = std::move(observer);
 }
 
 void System::refineSettledFrames(int after_keyframes, int after_frames, size_t max_frames) {

@@ -12,10 +12,12 @@
 // and holds tracking only while it is applied), and sequential (the same stages, run in a
 // fixed order on the caller's thread: deterministic, for tests and reproducible figures).
 //
-// Thread safety: start/feed/finish from one thread; the accessors after finish().
+// Thread safety: start/feed/finish from one thread; the accessors after finish(). A worker
+// thread's exception stops the pipeline and is rethrown by feed() or finish().
 #pragma once
 
 #include <array>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -116,7 +118,13 @@ class System {
   /// moving objects. Frames must come in time order.
   TrackingResult feed(const RgbdFrame& frame, const cv::Mat& mask = cv::Mat());
   /// Waits for the local mapper to process every queued keyframe, then stops it.
+  /// A failure of the mapping or loop thread stops the pipeline; feed() and finish() then
+  /// throw Error naming the thread and the cause (the frames tracked so far stay readable).
   void finish();
+  /// Called with each keyframe's id once it is mapped (dense cloud, lines, local BA, and the
+  /// loop closer in sequential mode), on the mapping thread: what publishes maps while a run
+  /// goes on hooks in here. An exception from it is a mapping-thread failure. Before start().
+  void setKeyframeObserver(std::function<void(Id)> observer);
 
   /// Every tracked frame with its final pose (reference keyframe pose * relative pose).
   Trajectory trajectory() const;

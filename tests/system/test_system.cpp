@@ -206,3 +206,42 @@ TEST(TumRegression, Fr3SittingStaticWithYoloMasksAte) {
   // Measured 0.0065 m (0.0084 m with the poses as tracked, system.refine_frames off).
   expectTumRegression("fr3_sitting_static_150", "tum_freiburg3.xml", 0.008, true, o);
 }
+
+TEST(SystemThreads, AMappingThreadFailureStopsThePipelineAndIsRethrownNamingTheThread) {
+  const std::string dir = test::syntheticSequence(synth::SceneKind::kStatic, 120);
+  const PinholeCamera camera = loadCameraFile(dir + "/camera.xml");
+  SystemOptions threaded;
+  threaded.sequential = false;
+  System slam(camera, threaded);
+  int mapped = 0;
+  slam.setKeyframeObserver([&mapped](Id) {
+    if (++mapped == 2) throw std::runtime_error("injected failure");
+  });
+  slam.start();
+  TumDataset data = TumDataset::open(dir, camera);
+  RgbdFrame frame;
+  std::string message;
+  size_t fed = 0;
+  try {
+    while (data.next(&frame)) slam.feed(frame), ++fed;
+    slam.finish();
+  } catch (const Error& e) {
+    message = e.what();
+  }
+  EXPECT_NE(message.find("mapping thread failed: injected failure"), std::string::npos) << message;
+  EXPECT_EQ(mapped, 2) << "no keyframe is mapped after the failure";
+  EXPECT_GE(slam.records().size(), fed) << "what was tracked before the failure stays readable";
+  EXPECT_THROW(slam.finish(), Error) << "finish() after the failure says it again";
+}
+
+TEST(SystemThreads, AnObserverFailureInSequentialModeComesOutOfFeed) {
+  const std::string dir = test::syntheticSequence(synth::SceneKind::kStatic, 120);
+  const PinholeCamera camera = loadCameraFile(dir + "/camera.xml");
+  System slam(camera, sequential());
+  slam.setKeyframeObserver([](Id) { throw std::runtime_error("injected failure"); });
+  slam.start();
+  TumDataset data = TumDataset::open(dir, camera);
+  RgbdFrame frame;
+  ASSERT_TRUE(data.next(&frame));
+  EXPECT_THROW(slam.feed(frame), std::runtime_error) << "the first frame makes the first keyframe";
+}
