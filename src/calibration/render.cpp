@@ -259,7 +259,7 @@ std::vector<SE3> makeViewPoses(const Target& target, const PinholeCamera& camera
   for (int attempt = 0; static_cast<int>(poses.size()) < count; ++attempt) {
     if (attempt > 2000 * count) throw DataError("makeViewPoses: cannot fit the target in the image; use a smaller target or a wider camera");
     const double fill = o.min_fill + (o.max_fill - o.min_fill) * uni(rng);
-    const double distance = camera.fx * pattern.width / (fill * camera.width);
+    const double distance = std::abs(camera.fx) * pattern.width / (fill * camera.width);  // fx is signed
     // Alternate the tilt's sign and axis so the set constrains the focal length well.
     const int k = static_cast<int>(poses.size());
     const double tilt = (0.3 + 0.7 * uni(rng)) * o.max_tilt_deg * deg * ((k / 2) % 2 ? -1 : 1);

@@ -101,6 +101,9 @@ PinholeCamera parseCameraFile(const std::string& content, const std::string& pat
     kLog.info(path + ": no <rgbd> element: assuming a depth scale of 1000 units per metre");
   }
   out.validate(path);
+  if (out.fx < 0 || out.fy < 0)
+    kLog.info(str(path, ": negative focal length (px ", out.fx, ", py ", out.fy,
+                  "): the image axis runs against the camera frame's, poses are in that camera frame"));
   return out;
 }
 

@@ -13,6 +13,12 @@
 //     </camera>
 //   </root>
 //
+// <px> and <py> are signed (see pinhole_camera.h): ICL-NUIM's <py>-480</py> is written as
+// published. ViSP keeps the sign too (vpXmlParserCamera and vpCameraParameters accept a
+// negative px or py, refusing only |p| < 1e-6, and vpMeterPixelConversion uses the sign), so
+// no flip needs to be stored elsewhere. Zero and non-finite focal lengths are refused naming
+// the file.
+//
 // A ViSP file without <rgbd> is accepted (depth scale 1000, the RealSense default, is
 // assumed and logged); a perspectiveProjWithDistortion model maps kud to k1 (ViSP's
 // kud is the radial coefficient from ideal to distorted coordinates, as Brown's k1).

@@ -7,6 +7,10 @@
 
 namespace plslam {
 
+namespace {
+constexpr double kMinFocalPx = 1e-6;
+}  // namespace
+
 bool PinholeCamera::hasDistortion() const {
   for (double d : dist)
     if (d != 0.0) return true;
@@ -17,8 +21,11 @@ void PinholeCamera::validate(const std::string& source) const {
   auto fail = [&](const std::string& what) { throw DataError(source + ": " + what); };
   if (width <= 0 || height <= 0 || width > 100000 || height > 100000)
     fail(str("image size ", width, "x", height, " is not a positive size"));
-  if (!std::isfinite(fx) || !std::isfinite(fy) || fx <= 0 || fy <= 0)
-    fail(str("focal lengths px=", fx, " py=", fy, " must be finite and positive"));
+  // Signed: a negative focal length flips that image axis (ICL-NUIM's fy = -480). Zero and
+  // tiny values are refused as ViSP does (|px|, |py| >= 1e-6).
+  if (!std::isfinite(fx) || !std::isfinite(fy) || !(std::abs(fx) >= kMinFocalPx) || !(std::abs(fy) >= kMinFocalPx))
+    fail(str("focal lengths px=", fx, " py=", fy, " must be finite and non-zero (at least ", kMinFocalPx,
+             " in magnitude; a negative value flips that image axis)"));
   if (!std::isfinite(cx) || !std::isfinite(cy) || cx < 0 || cy < 0 || cx > width || cy > height)
     fail(str("principal point u0=", cx, " v0=", cy, " lies outside the ", width, "x", height, " image"));
   for (double d : dist)

@@ -4,6 +4,15 @@
 //
 // The tracking stages work in *ideal* pixel coordinates (distortion removed once per
 // feature); project()/unproject() go through the distortion.
+//
+// Signed focal lengths. fx or fy may be negative: u = fx x/z + cx, v = fy y/z + cy is still
+// a pinhole camera, one whose image columns (fx < 0) or rows (fy < 0) run against the camera
+// frame's x or y axis. ICL-NUIM publishes fy = -480: its images are stored upside down with
+// respect to the frame of its ground truth, and with the published sign the poses come out
+// in that frame. Every formula here keeps the sign (the normalised coordinates
+// ((u - cx) / fx, (v - cy) / fy) are the camera frame's, and the distortion acts on them);
+// code that needs a length in pixels uses |fx| and |fy|. Zero, tiny (< 1e-6) and non-finite
+// focal lengths are refused.
 #pragma once
 
 #include <Eigen/Core>
@@ -18,14 +27,15 @@ struct PinholeCamera {
   std::string name;                 ///< short label, e.g. "tum_freiburg1"
   int width = 0;                    ///< image width, pixels
   int height = 0;                   ///< image height, pixels
-  double fx = 0, fy = 0;            ///< focal lengths, pixels (ViSP px, py)
+  double fx = 0, fy = 0;            ///< focal lengths, pixels (ViSP px, py); signed, see above
   double cx = 0, cy = 0;            ///< principal point, pixels (ViSP u0, v0)
   std::array<double, 5> dist{};     ///< k1 k2 p1 p2 k3; all zero for an ideal pinhole
   double depth_scale = 5000.0;      ///< depth image units per metre (TUM: 5000, D435i: 1000)
 
   bool hasDistortion() const;
-  /// Throws DataError naming `source` when a value is out of range (non-positive or
+  /// Throws DataError naming `source` when a value is out of range (zero, tiny or
   /// non-finite focal length, principal point outside the image, bad size or scale).
+  /// Negative focal lengths are valid (see above).
   void validate(const std::string& source) const;
 
   /// Camera-frame point to raw image pixel (with distortion). z must be > 0.
@@ -44,6 +54,10 @@ struct PinholeCamera {
   Eigen::Vector2d undistort(const Eigen::Vector2d& uv_raw) const;
   /// Ideal pixel to raw pixel.
   Eigen::Vector2d distort(const Eigen::Vector2d& uv_ideal) const;
+
+  /// Camera-frame direction towards the top of the image: -y, or +y when fy < 0. It points
+  /// up when the camera is held level (what the floor of the dense grid starts from).
+  Eigen::Vector3d imageUp() const { return {0.0, fy < 0 ? 1.0 : -1.0, 0.0}; }
 
   bool inImage(const Eigen::Vector2d& uv, double border = 0.0) const {
     return uv.x() >= border && uv.y() >= border && uv.x() <= width - 1 - border && uv.y() <= height - 1 - border;

@@ -12,6 +12,9 @@ namespace plslam {
 /// The ideal pinhole (perspectiveProjWithoutDistortion): what plslam's undistorted
 /// feature coordinates use. When the camera has only k1, the ViSP distortion model
 /// (kud = k1) is also set; ViSP cannot represent the other Brown terms.
+/// Signed focal lengths carry over unchanged both ways: ViSP accepts a negative px or py
+/// and its meter/pixel conversions keep the sign (what assumes a positive focal length in
+/// ViSP, such as computeFov's field of view, is not used here).
 vpCameraParameters toVisp(const PinholeCamera& camera);
 /// Width and height are not part of vpCameraParameters. kud becomes k1.
 PinholeCamera fromVisp(const vpCameraParameters& cam, int width, int height, double depth_scale);

@@ -30,8 +30,8 @@ struct DenseOptions {
   double occupied_thresh = 0.5;       ///< a voxel is occupied above this probability
 
   // --- floor and 2D grid (export) ---
-  std::string floor = "ransac";       ///< floor plane: "ransac" (lowest large plane near level) or "gravity" (-y of the first keyframe's camera)
-  double floor_max_tilt_deg = 30.0;   ///< ransac: candidate planes within this angle of the first camera's up (-y)
+  std::string floor = "ransac";       ///< floor plane: "ransac" (lowest large plane near level) or "gravity" (up of the first keyframe's image: -y, +y when fy < 0)
+  double floor_max_tilt_deg = 30.0;   ///< ransac: candidate planes within this angle of the first camera's up (its image's top)
   double floor_inlier_m = 0.02;       ///< ransac: inlier distance to a plane (m)
   double floor_min_fraction = 0.05;   ///< ransac: a plane needs this fraction of the cloud's points to be a floor candidate
   double grid_min_height_m = 0.10;    ///< the grid's height band above the floor, lower end (m)

@@ -86,8 +86,8 @@ void validateDenseOptions(const DenseOptions& o) {
        "grid_occupied_thresh", "need 0 < grid_free_thresh < grid_occupied_thresh < 1");
 }
 
-DenseProducts buildDenseProducts(const Map& map, const DenseOptions& o, const DenseSelection& what,
-                                 const DenseProgress& progress) {
+DenseProducts buildDenseProducts(const Map& map, const PinholeCamera& camera, const DenseOptions& o,
+                                 const DenseSelection& what, const DenseProgress& progress) {
   validateDenseOptions(o);
   DenseProducts p;
   p.keyframes = static_cast<int>(map.keyframes().size());
@@ -106,7 +106,7 @@ DenseProducts buildDenseProducts(const Map& map, const DenseOptions& o, const De
     timed(&p, "semantic octomap", [&] { p.semantic_octree = buildSemanticOctree(*p.octree, p.cloud, o); });
   if (!stop && what.semantic_octomap && progress && !progress("semantic octomap", 1, 1)) stop = true;
   if (!stop && what.grid) {
-    timed(&p, "floor", [&] { p.floor = estimateFloor(p.cloud, T_w_c0, o); });
+    timed(&p, "floor", [&] { p.floor = estimateFloor(p.cloud, T_w_c0, camera.imageUp(), o); });
     timed(&p, "grid", [&] { p.grid = projectToGrid(*p.octree, p.floor, o); });
     if (progress && !progress("grid", 1, 1)) stop = true;
   }

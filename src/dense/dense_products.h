@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "camera/pinhole_camera.h"
 #include "core/map.h"
 #include "dense/cloud_fusion.h"
 #include "dense/dense_options.h"
@@ -71,10 +72,11 @@ struct DenseProducts {
 };
 
 /// Builds the selected products (and what they need) from the keyframes' dense clouds and
-/// final poses. `progress` (may be empty) is called after each keyframe of each step;
-/// returning false stops the build (cancelled). Throws ConfigError for bad options.
-DenseProducts buildDenseProducts(const Map& map, const DenseOptions& options, const DenseSelection& what = {},
-                                 const DenseProgress& progress = {});
+/// final poses. `camera` is the map's camera (the floor starts from the top of its image,
+/// PinholeCamera::imageUp()). `progress` (may be empty) is called after each keyframe of
+/// each step; returning false stops the build (cancelled). Throws ConfigError for bad options.
+DenseProducts buildDenseProducts(const Map& map, const PinholeCamera& camera, const DenseOptions& options,
+                                 const DenseSelection& what = {}, const DenseProgress& progress = {});
 
 struct WrittenFile {
   std::string path;

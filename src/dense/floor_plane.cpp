@@ -38,9 +38,11 @@ Plane fitPlane(const std::vector<Eigen::Vector3d>& pts, const Eigen::Vector3d& u
   return pl;
 }
 
-SE3 gridFrame(const Eigen::Vector3d& up, double height0, const SE3& T_w_c0) {
+SE3 gridFrame(const Eigen::Vector3d& up, double height0, const SE3& T_w_c0, const Eigen::Vector3d& up_c) {
   const Eigen::Matrix3d R = T_w_c0.rotation();
-  Eigen::Vector3d x = R.col(0) - R.col(0).dot(up) * up;
+  // The camera's x axis when up_c = -y; -x when up_c = +y (fy < 0), so that y is forward.
+  const Eigen::Vector3d side = R * Eigen::Vector3d::UnitZ().cross(up_c);
+  Eigen::Vector3d x = side - side.dot(up) * up;
   if (x.norm() < 1e-6) x = R.col(2) - R.col(2).dot(up) * up;  // camera looking straight down
   x.normalize();
   const Eigen::Vector3d y = up.cross(x);
@@ -53,9 +55,10 @@ SE3 gridFrame(const Eigen::Vector3d& up, double height0, const SE3& T_w_c0) {
   return SE3(Rg, origin);
 }
 
-FloorPlane gravityFloor(const std::vector<FusedPoint>& cloud, const SE3& T_w_c0, const std::string& method) {
+FloorPlane gravityFloor(const std::vector<FusedPoint>& cloud, const SE3& T_w_c0, const Eigen::Vector3d& up_c,
+                        const std::string& method) {
   FloorPlane f;
-  f.up_w = (T_w_c0.rotation() * Eigen::Vector3d(0, -1, 0)).normalized();
+  f.up_w = (T_w_c0.rotation() * up_c).normalized();
   if (cloud.empty()) {
     f.height0 = f.up_w.dot(T_w_c0.translation()) - 1.0;
     f.method = method + " (empty cloud: floor 1 m below the first camera)";
@@ -68,18 +71,21 @@ FloorPlane gravityFloor(const std::vector<FusedPoint>& cloud, const SE3& T_w_c0,
     f.height0 = h[k];
     f.method = method;
   }
-  f.T_w_grid = gridFrame(f.up_w, f.height0, T_w_c0);
+  f.T_w_grid = gridFrame(f.up_w, f.height0, T_w_c0, up_c);
   return f;
 }
 
 }  // namespace
 
-FloorPlane estimateFloor(const std::vector<FusedPoint>& cloud, const SE3& T_w_c0, const DenseOptions& o) {
-  if (o.floor == "gravity") return gravityFloor(cloud, T_w_c0, "gravity");
+FloorPlane estimateFloor(const std::vector<FusedPoint>& cloud, const SE3& T_w_c0, const Eigen::Vector3d& up_c,
+                         const DenseOptions& o) {
+  if (!up_c.allFinite() || std::abs(up_c.norm() - 1.0) > 1e-9)
+    throw DataError("estimateFloor: the camera's up must be a unit vector (PinholeCamera::imageUp())");
+  if (o.floor == "gravity") return gravityFloor(cloud, T_w_c0, up_c, "gravity");
   if (o.floor != "ransac") throw ConfigError("dense.floor: unknown method '" + o.floor + "' (ransac, gravity)");
-  if (cloud.size() < 3) return gravityFloor(cloud, T_w_c0, "gravity (no level plane found)");
+  if (cloud.size() < 3) return gravityFloor(cloud, T_w_c0, up_c, "gravity (no level plane found)");
 
-  const Eigen::Vector3d up = (T_w_c0.rotation() * Eigen::Vector3d(0, -1, 0)).normalized();
+  const Eigen::Vector3d up = (T_w_c0.rotation() * up_c).normalized();
   const size_t step = std::max<size_t>(1, cloud.size() / kMaxSample);
   std::vector<Eigen::Vector3d> pts;
   for (size_t i = 0; i < cloud.size(); i += step) pts.push_back(cloud[i].p_w.cast<double>());
@@ -118,7 +124,7 @@ FloorPlane estimateFloor(const std::vector<FusedPoint>& cloud, const SE3& T_w_c0
     }
     remaining.swap(out);
   }
-  if (level.empty()) return gravityFloor(cloud, T_w_c0, "gravity (no level plane found)");
+  if (level.empty()) return gravityFloor(cloud, T_w_c0, up_c, "gravity (no level plane found)");
   // The lowest level plane along the first camera's up: a table top lies above the floor.
   const Plane* floor = &level.front();
   for (const Plane& p : level)
@@ -129,7 +135,7 @@ FloorPlane estimateFloor(const std::vector<FusedPoint>& cloud, const SE3& T_w_c0
   f.method = "ransac";
   f.inliers = floor->inliers;
   f.candidates = static_cast<int>(level.size());
-  f.T_w_grid = gridFrame(f.up_w, f.height0, T_w_c0);
+  f.T_w_grid = gridFrame(f.up_w, f.height0, T_w_c0, up_c);
   return f;
 }
 

@@ -1,16 +1,18 @@
 // The floor under a map, for the 2D grid. The SLAM world frame is the first keyframe's
-// camera (z forward, y down), so "up" must be found:
+// camera (z forward, y down, or y up when fy < 0), so "up" must be found, starting from the
+// first camera's up: the top of its image, up_c = PinholeCamera::imageUp() (-y, or +y when
+// fy < 0 as in ICL-NUIM):
 //   ransac   planes are fitted to the fused cloud (RANSAC, deterministic); among those
-//            within floor_max_tilt_deg of the first camera's up (-y) that hold at least
+//            within floor_max_tilt_deg of the first camera's up that hold at least
 //            floor_min_fraction of the points, the lowest along that up is the floor
 //            (a table top is higher, a wall is not level). Its normal is refined by least
 //            squares on its inliers. Without such a plane it falls back to gravity.
-//   gravity  up is the first camera's -y (the camera was held level at the start), the
+//   gravity  up is the first camera's up (the camera was held level at the start), the
 //            floor height the 2nd percentile of the points' heights along it.
 // The grid frame (T_w_grid) has z up along the floor normal, its origin on the floor below
-// the first camera's centre and x along the first camera's x axis laid onto the floor: in
-// the grid, the robot starts at (0, 0) looking along +y... (x right, y = up x right = the
-// camera's forward direction projected on the floor).
+// the first camera's centre and x along the first camera's z x up_c laid onto the floor (its
+// x axis, or -x when fy < 0): in the grid, the robot starts at (0, 0) looking along +y
+// (y = up x x = the camera's forward direction projected on the floor).
 //
 // Stateless and thread-safe.
 #pragma once
@@ -36,10 +38,12 @@ struct FloorPlane {
   double height(const Eigen::Vector3d& p_w) const { return up_w.dot(p_w) - height0; }
 };
 
-/// Estimates the floor of `cloud` (world frame); T_w_c0 is the first keyframe's pose.
+/// Estimates the floor of `cloud` (world frame); T_w_c0 is the first keyframe's pose and
+/// up_c its camera's up in the camera frame (PinholeCamera::imageUp()).
 /// Throws ConfigError for an unknown options.floor. An empty cloud gives the gravity up
 /// with the floor 1 m below the first camera's centre (so that products stay defined);
 /// `method` says so.
-FloorPlane estimateFloor(const std::vector<FusedPoint>& cloud, const SE3& T_w_c0, const DenseOptions& options);
+FloorPlane estimateFloor(const std::vector<FusedPoint>& cloud, const SE3& T_w_c0, const Eigen::Vector3d& up_c,
+                         const DenseOptions& options);
 
 }  // namespace plslam

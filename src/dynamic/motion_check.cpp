@@ -373,7 +373,7 @@ MotionCheckResult checkMotionOnce(const std::vector<MotionCorrespondence>& corr,
   Eigen::Matrix3d Kinv;
   Kinv << 1 / cam.fx, 0, -cam.cx / cam.fx, 0, 1 / cam.fy, -cam.cy / cam.fy, 0, 0, 1;
   const Eigen::Matrix3d F = Kinv.transpose() * hat(t) * R * Kinv;  // x_cur^T F x_prev = 0
-  const double f = std::max(cam.fx, cam.fy);
+  const double f = std::max(std::abs(cam.fx), std::abs(cam.fy));  // pixels per unit of x/z; fx, fy are signed
   for (int k = 0; k < n; ++k) {
     const int i = s.index[k];
     res.evidence[i] = MotionEvidence::kRigid3d;

@@ -382,6 +382,9 @@ bool Tracker::relocalise(const FrameFeatures& f, SE3* T_w_c, Matches* m) {
     if (object.size() < 30) continue;
     cv::Mat rvec, tvec;
     std::vector<int> inliers;
+    // K may hold a negative fx or fy (camera/pinhole_camera.h): OpenCV's EPnP, RANSAC
+    // reprojection test and refinement keep the sign (tests/system/test_mirrored_camera.cpp
+    // relocalises with fy < 0).
     if (!cv::solvePnPRansac(object, image, cv::Mat(camera_.K()), cv::noArray(), rvec, tvec, false, 200, 4.0f, 0.99,
                             inliers, cv::SOLVEPNP_EPNP) ||
         inliers.size() < 30)

@@ -91,7 +91,7 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
   t->bind("dense.prob_hit", &dn.prob_hit, "OctoMap occupancy probability of a ray end");
   t->bind("dense.prob_miss", &dn.prob_miss, "OctoMap occupancy probability along a ray");
   t->bind("dense.occupied_thresh", &dn.occupied_thresh, "OctoMap voxels above this probability are occupied");
-  t->bind("dense.floor", &dn.floor, "floor plane for the grid: ransac (lowest level plane) or gravity (-y of the first camera)");
+  t->bind("dense.floor", &dn.floor, "floor plane for the grid: ransac (lowest level plane) or gravity (the first camera's image up)");
   t->bind("dense.floor_max_tilt_deg", &dn.floor_max_tilt_deg, "ransac floor: max angle to the first camera's up (deg)");
   t->bind("dense.floor_inlier_m", &dn.floor_inlier_m, "ransac floor: inlier distance (m)");
   t->bind("dense.floor_min_fraction", &dn.floor_min_fraction, "ransac floor: fraction of the points a floor needs");

@@ -38,18 +38,20 @@ std::string replaced(std::string s, const std::string& from, const std::string& 
 TEST(CameraFile, ShippedFilesLoadAndAgreeWithVisp) {
   struct Expect {
     const char* file;
-    double fx, cy, scale, k1;
+    double fx, fy, cy, scale, k1;
   };
-  for (const Expect& e : {Expect{"tum_freiburg1.xml", 517.3, 255.3, 5000, 0.2624},
-                          Expect{"tum_freiburg2.xml", 520.9, 249.7, 5000, 0.2312},
-                          Expect{"tum_freiburg3.xml", 535.4, 247.6, 5000, 0},
-                          Expect{"icl_nuim.xml", 481.2, 239.5, 5000, 0},
-                          Expect{"d435i_640x480.xml", 615.0, 240.0, 1000, 0}}) {
+  // ICL-NUIM as published: fy = -480.
+  for (const Expect& e : {Expect{"tum_freiburg1.xml", 517.3, 516.5, 255.3, 5000, 0.2624},
+                          Expect{"tum_freiburg2.xml", 520.9, 521.0, 249.7, 5000, 0.2312},
+                          Expect{"tum_freiburg3.xml", 535.4, 539.2, 247.6, 5000, 0},
+                          Expect{"icl_nuim.xml", 481.2, -480.0, 239.5, 5000, 0},
+                          Expect{"d435i_640x480.xml", 615.0, 615.0, 240.0, 1000, 0}}) {
     SCOPED_TRACE(e.file);
     const PinholeCamera cam = loadCameraFile(calib(e.file));
     EXPECT_EQ(cam.width, 640);
     EXPECT_EQ(cam.height, 480);
     EXPECT_DOUBLE_EQ(cam.fx, e.fx);
+    EXPECT_DOUBLE_EQ(cam.fy, e.fy);
     EXPECT_DOUBLE_EQ(cam.cy, e.cy);
     EXPECT_DOUBLE_EQ(cam.depth_scale, e.scale);
     EXPECT_DOUBLE_EQ(cam.dist[0], e.k1);
@@ -78,6 +80,34 @@ TEST(CameraFile, SaveLoadRoundTrip) {
   EXPECT_DOUBLE_EQ(back.depth_scale, cam.depth_scale);
 }
 
+TEST(CameraFile, NegativeFocalLengthsRoundTripAndViSPReadsThem) {
+  // Signed focal lengths are written as they are, read back by plslam and by ViSP's parser.
+  PinholeCamera cam = loadCameraFile(calib("tum_freiburg1.xml"));
+  cam.name = "mirrored";
+  cam.fx = -cam.fx;
+  cam.fy = -cam.fy;
+  cam.cx = 639 - cam.cx;
+  cam.cy = 479 - cam.cy;
+  const std::string path = test::scratchDir("camera") + "/negative.xml";
+  saveCameraFile(path, cam, "mirrored freiburg1");
+  const PinholeCamera back = loadCameraFile(path);
+  EXPECT_DOUBLE_EQ(back.fx, cam.fx);
+  EXPECT_DOUBLE_EQ(back.fy, cam.fy);
+  EXPECT_DOUBLE_EQ(back.cx, cam.cx);
+  EXPECT_DOUBLE_EQ(back.cy, cam.cy);
+  for (int i = 0; i < 5; ++i) EXPECT_DOUBLE_EQ(back.dist[i], cam.dist[i]);
+  const Eigen::Vector3d p(0.2, -0.3, 1.7);
+  EXPECT_LT((back.project(p) - cam.project(p)).norm(), 1e-9);
+  vpXmlParserCamera parser;
+  vpCameraParameters vp;
+  ASSERT_EQ(parser.parse(vp, path, "mirrored", vpCameraParameters::perspectiveProjWithoutDistortion, 640, 480),
+            vpXmlParserCamera::SEQUENCE_OK);
+  EXPECT_DOUBLE_EQ(vp.get_px(), cam.fx);
+  EXPECT_DOUBLE_EQ(vp.get_py(), cam.fy);
+  // Only the sign of py differs from a normal ViSP file.
+  EXPECT_DOUBLE_EQ(parseCameraFile(replaced(kGood, "<py>501</py>", "<py>-501</py>"), "neg.xml").fy, -501.0);
+}
+
 TEST(CameraFile, ViSPFileWithoutRgbdAssumesMillimetres) {
   const std::string content = replaced(kGood, "<additional_information><rgbd><depth_scale>1000</depth_scale></rgbd></additional_information>", "");
   EXPECT_DOUBLE_EQ(parseCameraFile(content, "visp.xml").depth_scale, 1000.0);
@@ -99,8 +129,11 @@ TEST(CameraFile, MalformedFilesAreRefusedWithTheProblem) {
   expectRefused(replaced(kGood, "</model>", "</modelx>"), {"closes"});
   expectRefused(replaced(kGood, "<root>", "<toor>").replace(std::string(kGood).rfind("</root>") , 7, "</toor>"), {"<root>"});
   expectRefused(replaced(kGood, "<px>500</px>", "<px>abc</px>"), {"px", "not a number"});
-  expectRefused(replaced(kGood, "<px>500</px>", "<px>-500</px>"), {"focal"});
+  EXPECT_NO_THROW(parseCameraFile(replaced(kGood, "<px>500</px>", "<px>-500</px>"), "negative.xml"));
   expectRefused(replaced(kGood, "<py>501</py>", "<py>0</py>"), {"focal"});
+  expectRefused(replaced(kGood, "<py>501</py>", "<py>-0</py>"), {"focal"});
+  expectRefused(replaced(kGood, "<px>500</px>", "<px>-1e-9</px>"), {"focal"});
+  expectRefused(replaced(kGood, "<px>500</px>", "<px>-1e999</px>"), {"px"});
   expectRefused(replaced(kGood, "<py>501</py>", "<py>nan</py>"), {"py", "not a number"});
   expectRefused(replaced(kGood, "<py>501</py>", "<py>1e999</py>"), {"py"});
   expectRefused(replaced(kGood, "<px>500</px>", ""), {"px"});

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <opencv2/core.hpp>
+#include <visp3/core/vpMeterPixelConversion.h>
 
 #include "camera/pinhole_camera.h"
 #include "camera/visp_conversion.h"
@@ -45,23 +47,97 @@ TEST(PinholeCamera, DistortionMovesCornersButNotCentre) {
 
 TEST(PinholeCamera, ValidateRefusesBadIntrinsicsNamingSource) {
   PinholeCamera cam = freiburg1();
-  cam.fy = -480;
-  try {
-    cam.validate("my.xml");
-    FAIL() << "negative focal length accepted";
-  } catch (const DataError& e) {
-    EXPECT_NE(std::string(e.what()).find("my.xml"), std::string::npos);
-    EXPECT_NE(std::string(e.what()).find("focal"), std::string::npos);
+  for (double bad : {0.0, -0.0, 1e-9, -1e-9, std::nan(""), HUGE_VAL, -HUGE_VAL}) {
+    for (double* f : {&cam.fx, &cam.fy}) {
+      cam = freiburg1();
+      *f = bad;
+      try {
+        cam.validate("my.xml");
+        ADD_FAILURE() << "focal length " << bad << " accepted";
+      } catch (const DataError& e) {
+        EXPECT_NE(std::string(e.what()).find("my.xml"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("focal"), std::string::npos) << e.what();
+      }
+    }
   }
-  cam = freiburg1();
-  cam.fx = std::nan("");
-  EXPECT_THROW(cam.validate("x"), DataError);
   cam = freiburg1();
   cam.cx = 900;
   EXPECT_THROW(cam.validate("x"), DataError);
   cam = freiburg1();
   cam.depth_scale = 0;
   EXPECT_THROW(cam.validate("x"), DataError);
+}
+
+namespace {
+// The camera that sees the images of `cam` flipped: rows (flip_rows) and/or columns.
+PinholeCamera mirrored(PinholeCamera cam, bool flip_rows, bool flip_cols) {
+  if (flip_rows) cam.fy = -cam.fy, cam.cy = (cam.height - 1) - cam.cy;
+  if (flip_cols) cam.fx = -cam.fx, cam.cx = (cam.width - 1) - cam.cx;
+  return cam;
+}
+}  // namespace
+
+TEST(PinholeCamera, NegativeFocalLengthsAreValidAndRoundTrip) {
+  // ICL-NUIM's published intrinsics, and both axes flipped, with and without distortion.
+  PinholeCamera icl;
+  icl.width = 640, icl.height = 480;
+  icl.fx = 481.2, icl.fy = -480.0, icl.cx = 319.5, icl.cy = 239.5;
+  PinholeCamera both = freiburg1();
+  both.fx = -both.fx, both.fy = -both.fy;
+  for (const PinholeCamera& cam : {icl, mirrored(freiburg1(), true, false), both}) {
+    SCOPED_TRACE(testing::Message() << "fx " << cam.fx << " fy " << cam.fy);
+    EXPECT_NO_THROW(cam.validate("negative.xml"));
+    for (double u = 20; u < 640; u += 77)
+      for (double v = 15; v < 480; v += 61) {
+        const Eigen::Vector3d p = cam.unproject({u, v}, 2.5);
+        EXPECT_NEAR(p.z(), 2.5, 1e-12);
+        const Eigen::Vector2d uv = cam.project(p);
+        EXPECT_NEAR(uv.x(), u, 1e-6);
+        EXPECT_NEAR(uv.y(), v, 1e-6);
+        const Eigen::Vector2d ideal = cam.undistort({u, v});
+        EXPECT_LT((cam.distort(ideal) - Eigen::Vector2d(u, v)).norm(), 1e-6);
+        EXPECT_LT((cam.unprojectIdeal(ideal, 2.5) - p).norm(), 1e-9);
+        EXPECT_LT((cam.projectIdeal(p) - ideal).norm(), 1e-9);
+      }
+  }
+  // fy < 0: a point above the optical axis (y < 0) lands below the principal point.
+  EXPECT_GT(icl.projectIdeal({0.0, -0.5, 2.0}).y(), icl.cy);
+  EXPECT_EQ(icl.imageUp(), Eigen::Vector3d(0, 1, 0));
+  EXPECT_EQ(freiburg1().imageUp(), Eigen::Vector3d(0, -1, 0));
+}
+
+TEST(PinholeCamera, MirroredCameraSeesTheFlippedImage) {
+  // The camera of flipped images (fy -> -fy, cy -> h-1-cy; likewise for columns) puts every
+  // camera-frame point on the flipped pixel, through the distortion too, and unprojects the
+  // flipped pixel (depth looked up in the flipped depth image) to the same point.
+  const PinholeCamera cam = freiburg1();
+  cv::Mat depth(cam.height, cam.width, CV_32FC1);
+  for (int y = 0; y < depth.rows; ++y)
+    for (int x = 0; x < depth.cols; ++x) depth.at<float>(y, x) = 1.0f + 0.001f * x + 0.002f * y;
+  for (bool rows : {true, false})
+    for (bool cols : {true, false}) {
+      if (!rows && !cols) continue;
+      SCOPED_TRACE(testing::Message() << "rows " << rows << " cols " << cols);
+      const PinholeCamera m = mirrored(cam, rows, cols);
+      cv::Mat flipped;
+      cv::flip(depth, flipped, rows && cols ? -1 : rows ? 0 : 1);
+      auto flip = [&](const Eigen::Vector2d& uv) {
+        return Eigen::Vector2d(cols ? cam.width - 1 - uv.x() : uv.x(), rows ? cam.height - 1 - uv.y() : uv.y());
+      };
+      for (double u = 20; u < 640; u += 53)
+        for (double v = 15; v < 480; v += 41) {
+          const Eigen::Vector2d uv(u, v);
+          const Eigen::Vector3d p = cam.unproject(uv, depthAt(depth, u, v));
+          EXPECT_LT((m.project(p) - flip(uv)).norm(), 1e-6);
+          EXPECT_LT((m.undistort(flip(uv)) - flip(cam.undistort(uv))).norm(), 1e-6);
+          EXPECT_EQ(depthAt(flipped, flip(uv).x(), flip(uv).y()), depthAt(depth, u, v));
+          const Eigen::Vector2d fuv = flip(uv);
+          EXPECT_LT((m.unproject(fuv, depthAt(flipped, fuv.x(), fuv.y())) - p).norm(), 1e-9);
+          EXPECT_EQ(m.inImage(fuv, 5.0), cam.inImage(uv, 5.0));
+        }
+      EXPECT_FALSE(m.inImage({-0.5, 10}));
+      EXPECT_FALSE(m.inImage({10, cam.height - 0.5}));
+    }
 }
 
 TEST(PinholeCamera, DepthConversionRoundTripAndHoles) {
@@ -100,6 +176,24 @@ TEST(VispConversion, CameraParametersRoundTrip) {
   const Eigen::Vector2d uv = withk1.distort({320 + 500 * x, 240 + 500 * y});
   const double r2 = x * x + y * y;
   EXPECT_NEAR(uv.x(), 320 + 500 * x * (1 + 0.1 * r2), 1e-9);
+}
+
+TEST(VispConversion, NegativeFocalLengthKeepsItsSign) {
+  // ViSP accepts a negative px or py and projects with it as plslam does.
+  PinholeCamera cam = freiburg1();
+  cam.dist = {};
+  cam.fy = -cam.fy;
+  cam.cy = 479 - cam.cy;
+  const vpCameraParameters vp = toVisp(cam);
+  EXPECT_DOUBLE_EQ(vp.get_py(), cam.fy);
+  const Eigen::Vector3d p(0.3, -0.4, 2.0);
+  double u = 0, v = 0;
+  vpMeterPixelConversion::convertPoint(vp, p.x() / p.z(), p.y() / p.z(), u, v);
+  EXPECT_NEAR(u, cam.project(p).x(), 1e-9);
+  EXPECT_NEAR(v, cam.project(p).y(), 1e-9);
+  const PinholeCamera back = fromVisp(vp, 640, 480, 5000);
+  EXPECT_DOUBLE_EQ(back.fy, cam.fy);
+  EXPECT_NO_THROW(back.validate("visp"));
 }
 
 TEST(VispConversion, PoseIsAMbWithoutInversion) {

@@ -28,10 +28,11 @@ TEST(DenseFiles, EveryProductIsWrittenAndReadsBack) {
   o.dense.octree_resolution_m = 0.1;
   const test::GtMap g = test::buildGtMap(o);
   std::vector<std::string> stages;
-  const DenseProducts p = buildDenseProducts(g.map, o.dense, {}, [&](const std::string& stage, size_t, size_t) {
+  const auto record = [&](const std::string& stage, size_t, size_t) {
     if (stages.empty() || stages.back() != stage) stages.push_back(stage);
     return true;
-  });
+  };
+  const DenseProducts p = buildDenseProducts(g.map, g.scene.camera(), o.dense, {}, record);
   EXPECT_EQ(stages, (std::vector<std::string>{"cloud", "octomap", "semantic octomap", "grid"}));
   ASSERT_FALSE(p.cancelled);
   size_t persons = 0;
@@ -122,7 +123,8 @@ TEST(DenseFiles, StoppedBuildWritesNoProduct) {
   o.every = 10;
   const test::GtMap g = test::buildGtMap(o);
   const DenseProducts p =
-      buildDenseProducts(g.map, o.dense, {}, [](const std::string& stage, size_t, size_t) { return stage != "octomap"; });
+      buildDenseProducts(g.map, g.scene.camera(), o.dense, {},
+                         [](const std::string& stage, size_t, size_t) { return stage != "octomap"; });
   EXPECT_TRUE(p.cancelled);
   const std::string dir = test::scratchDir("dense_cancelled");
   const std::vector<WrittenFile> files = writeDenseProducts(dir, p, {}, o.dense);

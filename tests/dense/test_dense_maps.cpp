@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "dense/dense_products.h"
+#include "dense/floor_plane.h"
 #include "dense/keyframe_cloud.h"
 #include "dense_scene.h"
 #include "support/test_support.h"
@@ -86,6 +87,41 @@ TEST(DenseOptions, OutOfRangeValuesAreRefusedNamingTheKey) {
   o = DenseOptions();
   o.grid_max_height_m = o.grid_min_height_m;
   EXPECT_THROW(validateDenseOptions(o), ConfigError);
+}
+
+TEST(FloorPlane, StartsFromTheTopOfTheImageAlsoWhenFyIsNegative) {
+  // A room seen from its first camera (the world frame): floor 1.2 m below, ceiling 1.3 m
+  // above, a wall 4 m ahead. With fy > 0 the camera's y points down; the camera of the same
+  // images with fy < 0 (ICL-NUIM's convention) has y up, so its cloud is the mirror in y.
+  // Both must find the floor, not the ceiling, and a grid whose y is the camera's forward.
+  PinholeCamera normal = smallCamera(), flipped = smallCamera();
+  flipped.fy = -flipped.fy;
+  flipped.cy = (flipped.height - 1) - flipped.cy;
+  for (const PinholeCamera* cam : {&normal, &flipped}) {
+    const double s = cam->fy > 0 ? 1.0 : -1.0;  // y of "down" in this camera's frame
+    std::vector<FusedPoint> cloud;
+    for (double a = -2; a <= 2; a += 0.1)
+      for (double b = 0.5; b <= 4; b += 0.1) {
+        FusedPoint f, c, w;
+        f.p_w = Eigen::Vector3d(a, s * 1.2, b).cast<float>();
+        c.p_w = Eigen::Vector3d(a, -s * 1.3, b).cast<float>();
+        w.p_w = Eigen::Vector3d(a, s * (1.2 - 2.5 * (b - 0.5) / 3.5), 4.0).cast<float>();
+        cloud.insert(cloud.end(), {f, c, w});
+      }
+    for (const char* method : {"ransac", "gravity"}) {
+      SCOPED_TRACE(testing::Message() << "fy " << cam->fy << ", " << method);
+      DenseOptions o;
+      o.floor = method;
+      const FloorPlane fl = estimateFloor(cloud, SE3(), cam->imageUp(), o);
+      EXPECT_EQ(fl.method, method);
+      EXPECT_GT(fl.up_w.dot(Eigen::Vector3d(0, -s, 0)), std::cos(1.0 * M_PI / 180)) << fl.up_w.transpose();
+      EXPECT_NEAR(fl.height0, -1.2, 0.01) << "the floor is 1.2 m below the camera";
+      EXPECT_NEAR(fl.height(Eigen::Vector3d(0, 0, 0)), 1.2, 0.01);
+      const Eigen::Matrix3d R = fl.T_w_grid.rotation();
+      EXPECT_GT(R.col(1).dot(Eigen::Vector3d::UnitZ()), 0.999) << "grid y is the camera's forward";
+      EXPECT_GT(R.col(2).dot(fl.up_w), 0.999);
+    }
+  }
 }
 
 TEST(DenseMaps, FusedCloudLiesOnTheTrueSurfacesWithGroundTruthPoses) {
@@ -190,7 +226,7 @@ TEST(DenseMaps, GridMatchesTheWallsAndFurnitureAndReadsBack) {
   o.dense.grid_resolution_m = 0.05;
   const test::GtMap g = test::buildGtMap(o);
   DenseSelection what;
-  const DenseProducts p = buildDenseProducts(g.map, o.dense, what);
+  const DenseProducts p = buildDenseProducts(g.map, g.scene.camera(), o.dense, what);
   // The synthetic world has z up and the floor at z = 0.
   std::printf("floor: %s, up (%.4f %.4f %.4f), height0 %.4f m; grid %dx%d: %d occupied, %d free, %d unknown\n",
               p.floor.method.c_str(), p.floor.up_w.x(), p.floor.up_w.y(), p.floor.up_w.z(), p.floor.height0,

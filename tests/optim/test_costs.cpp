@@ -6,8 +6,10 @@
 #include <ceres/loss_function.h>
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <random>
+#include <utility>
 
 #include "core/error.h"
 #include "optim/cost_functions.h"
@@ -229,6 +231,59 @@ TEST(OptimCosts, JacobiansMatchNumericDifferences) {
                       Eigen::Matrix<double, 6, 6>::Identity() * 3.0};
   std::unique_ptr<ceres::CostFunction> rel_cost(RelativePoseCost::create(rc));
   expectJacobiansMatchNumeric(*rel_cost, {&manifold, &manifold}, {pose_i, pose_j});
+}
+
+TEST(OptimCosts, NegativeFocalLengthsKeepTheirSign) {
+  // A camera with fx or fy < 0 (ICL-NUIM publishes fy = -480): residuals vanish at the
+  // truth and the analytic Jacobians still match numeric differences.
+  std::mt19937 rng(32);
+  const SE3 T_w_c = perturb(pathPose(1, 4), 0.1, 10.0, rng);
+  double pose[kPoseSize];
+  poseToBlock(T_w_c.inverse(), pose);
+  const PoseLiftManifold lift;
+  for (const auto& [flip_x, flip_y] : {std::pair{false, true}, std::pair{true, false}, std::pair{true, true}}) {
+    PinholeCamera cam = syntheticCamera();
+    if (flip_x) cam.fx = -cam.fx, cam.cx = (cam.width - 1) - cam.cx;
+    if (flip_y) cam.fy = -cam.fy, cam.cy = (cam.height - 1) - cam.cy;
+    SCOPED_TRACE(testing::Message() << "fx " << cam.fx << " fy " << cam.fy);
+    const Intrinsics Km{cam.fx, cam.fy, cam.cx, cam.cy};
+    const Eigen::Vector3d X_c(0.3, -0.25, 2.7), A_c(-0.5, 0.2, 3.0), B_c(0.4, -0.3, 2.2);
+    double point[3], line[6];
+    Eigen::Vector3d::Map(point) = T_w_c * X_c;
+    Eigen::Vector3d::Map(line) = T_w_c * A_c;
+    Eigen::Vector3d::Map(line + 3) = T_w_c * B_c;
+
+    // Zero at the truth, whitened pixels off it.
+    const Eigen::Vector2d uv = cam.projectIdeal(X_c);
+    PointTerm<3> pt{Km, uv, 0.5, X_c.z(), 100.0, 1e-3};
+    double r[3];
+    ASSERT_TRUE(pt(pose, Eigen::Vector3d(point), r));
+    EXPECT_LT(Eigen::Vector3d(r[0], r[1], r[2]).norm(), 1e-9);
+    LineTerm lt;
+    lt.K = Km, lt.inv_sigma = 1.0 / 1.2;
+    ASSERT_TRUE(normalisedLine(cam.projectIdeal(A_c), cam.projectIdeal(B_c), &lt.l));
+    double rl[2];
+    ASSERT_TRUE(lt(pose, Eigen::Vector3d(line), Eigen::Vector3d(line + 3), rl));
+    EXPECT_LT(std::hypot(rl[0], rl[1]), 1e-9);
+
+    const Eigen::Vector2d off = uv + Eigen::Vector2d(1.5, -2.0);
+    const PointCost<3> c3({Km, off, 0.8, 2.6, 1.0 / 0.01, 1e-3}, nullptr);
+    expectJacobiansMatchNumeric(c3, {&lift, nullptr}, {pose, point});
+    const PointCost<2> c2({Km, off, 0.8, 0.0, 0.0, 1e-3}, nullptr);
+    expectJacobiansMatchNumeric(c2, {&lift, nullptr}, {pose, point});
+    ASSERT_TRUE(normalisedLine({100, 120}, {500, 300}, &lt.l));
+    const LineCost lc(lt, nullptr);
+    expectJacobiansMatchNumeric(lc, {&lift, nullptr}, {pose, line});
+
+    PoseOnlyBatchCost batch(pose, std::sqrt(5.991), std::sqrt(7.815));
+    const std::uint8_t on = 1;
+    batch.addPoint(PointTerm<2>{Km, uv + Eigen::Vector2d(0.5, -0.3), 1.0, 0.0, 0.0, 1e-3}, Eigen::Vector3d(point), &on);
+    batch.addPoint(PointTerm<3>{Km, uv, 1.2, 2.65, 100.0, 1e-3}, Eigen::Vector3d(point), &on);
+    batch.addLine(lt, Eigen::Vector3d(line), Eigen::Vector3d(line + 3), &on);
+    batch.reweight(true);
+    double delta[6] = {0.01, -0.02, 0.015, 0.03, -0.05, 0.02};
+    expectJacobiansMatchNumeric(batch, {nullptr}, {delta});
+  }
 }
 
 TEST(OptimCosts, BatchWeightsAreTheHuberDerivative) {

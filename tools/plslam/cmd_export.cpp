@@ -30,7 +30,7 @@ int runExport(int argc, char** argv) {
       .option("grid-resolution", "grid cell size (m; default: the OctoMap resolution)")
       .option("grid-min-height", "lower end of the obstacle band above the floor (m)")
       .option("grid-max-height", "upper end of the obstacle band above the floor (m)")
-      .option("floor", "ransac (lowest level plane) or gravity (-y of the first camera)")
+      .option("floor", "ransac (lowest level plane) or gravity (the first camera's image up)")
       .option("log-level", "debug, info, warn, error or off", "warn")
       .flag("quiet", "no progress line")
       .epilog(
@@ -80,7 +80,7 @@ int runExport(int argc, char** argv) {
   if (with_cloud == 0)
     throw DataError(args.str("map") + ": none of its " + std::to_string(loaded.map.keyframes().size()) +
                     " keyframes has a dense cloud (was it made with dense.enabled: false?)");
-  return writeDenseMaps(loaded.map, o, what, args.str("out"), !args.has("quiet")) ? 0 : 130;
+  return writeDenseMaps(loaded.map, loaded.camera, o, what, args.str("out"), !args.has("quiet")) ? 0 : 130;
 }
 
 }  // namespace

@@ -164,7 +164,7 @@ int runRun(int argc, char** argv) {
   if (!skipped.empty()) std::printf("skipped %d of %zu frames: %s\n", dataset.skippedTotal(), dataset.size(), skipped.c_str());
   if (!ate_line.empty()) std::printf("%s\n", ate_line.c_str());
   std::printf("outputs: %s\n", out.c_str());
-  if (!args.has("no-dense") && options.dense.enabled && !writeDenseMaps(slam.map(), options.dense, {}, out, progress))
+  if (!args.has("no-dense") && options.dense.enabled && !writeDenseMaps(slam.map(), camera, options.dense, {}, out, progress))
     return 130;
   return fed.interrupted ? 130 : 0;
 }

@@ -6,11 +6,11 @@
 
 namespace plslam::cli {
 
-bool writeDenseMaps(const Map& map, const DenseOptions& options, const DenseSelection& what, const std::string& dir,
-                    bool progress) {
+bool writeDenseMaps(const Map& map, const PinholeCamera& camera, const DenseOptions& options,
+                    const DenseSelection& what, const std::string& dir, bool progress) {
   SigintGuard sigint;
-  DenseProducts products = buildDenseProducts(map, options, what, [&](const std::string& stage, size_t done,
-                                                                      size_t total) {
+  DenseProducts products = buildDenseProducts(map, camera, options, what, [&](const std::string& stage, size_t done,
+                                                                              size_t total) {
     if (progress) {
       std::fprintf(stderr, "\r[dense] %s: keyframe %zu/%zu      ", stage.c_str(), done, total);
       std::fflush(stderr);

@@ -10,10 +10,11 @@
 
 namespace plslam::cli {
 
-/// Builds the selected products of `map` and writes them into `dir`. Prints one line per
-/// step (time, peak resident memory) and per file (size) on stdout. Returns false when
-/// Ctrl-C stopped it (then only dense_products.json, marked cancelled, is written).
-bool writeDenseMaps(const Map& map, const DenseOptions& options, const DenseSelection& what, const std::string& dir,
-                    bool progress);
+/// Builds the selected products of `map` (seen by `camera`) and writes them into `dir`.
+/// Prints one line per step (time, peak resident memory) and per file (size) on stdout.
+/// Returns false when Ctrl-C stopped it (then only dense_products.json, marked cancelled,
+/// is written).
+bool writeDenseMaps(const Map& map, const PinholeCamera& camera, const DenseOptions& options,
+                    const DenseSelection& what, const std::string& dir, bool progress);
 
 }  // namespace plslam::cli
