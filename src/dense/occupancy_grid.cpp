@@ -32,14 +32,6 @@ std::string trim(const std::string& s) {
 
 }  // namespace
 
-bool OccupancyGrid::cellOf(double gx, double gy, int* cx, int* cy) const {
-  const double fx = (gx - origin.x()) / resolution, fy = (gy - origin.y()) / resolution;
-  if (!(fx >= 0 && fy >= 0 && fx < width && fy < height)) return false;
-  *cx = static_cast<int>(fx);
-  *cy = static_cast<int>(fy);
-  return true;
-}
-
 Eigen::Vector3d OccupancyGrid::cellCentreWorld(int x, int y, double h) const {
   return T_w_grid * Eigen::Vector3d(origin.x() + (x + 0.5) * resolution, origin.y() + (y + 0.5) * resolution, h);
 }

@@ -31,8 +31,6 @@ struct OccupancyGrid {
 
   int8_t at(int x, int y) const { return cells[static_cast<size_t>(y) * width + x]; }
   int8_t& at(int x, int y) { return cells[static_cast<size_t>(y) * width + x]; }
-  /// The cell holding grid-frame (x, y); false outside.
-  bool cellOf(double gx, double gy, int* cx, int* cy) const;
   /// The world point above the centre of cell (x, y) at `height` over the floor.
   Eigen::Vector3d cellCentreWorld(int x, int y, double height) const;
   int count(int8_t value) const;

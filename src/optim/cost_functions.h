@@ -325,11 +325,8 @@ class PoseOnlyBatchCost final : public ceres::CostFunction {
                      ? weightOf(huber2_, r[0] * r[0] + r[1] * r[1])
                      : 1.0;
   }
-  /// Weight of the k-th observation added (points with depth, points without, lines: in the
-  /// order of their own kind; for tests).
+  /// Weight of the k-th observation without depth (for tests).
   double monoWeight(size_t k) const { return mono_[k].weight; }
-  double rgbdWeight(size_t k) const { return rgbd_[k].weight; }
-  double lineWeight(size_t k) const { return lines_[k].weight; }
 
   bool Evaluate(double const* const* p, double* r, double** J) const override {
     double pose[kPoseSize];

@@ -3,7 +3,6 @@
 // so a frame renders the same whatever was rendered before it, in any order or thread.
 #pragma once
 
-#include <cmath>
 #include <cstdint>
 
 namespace plslam::synth {
@@ -23,12 +22,5 @@ inline uint64_t hash3(uint64_t a, uint64_t b, uint64_t c) { return hash2(hash2(a
 
 /// Uniform in [0, 1) from the top 53 bits.
 inline double unitFromHash(uint64_t h) { return static_cast<double>(h >> 11) * 0x1.0p-53; }
-
-/// A standard normal value from one 64-bit hash (Box-Muller on its two 32-bit halves).
-inline double gaussianFromHash(uint64_t h) {
-  const double u1 = (static_cast<double>(h >> 32) + 0.5) * 0x1.0p-32;
-  const double u2 = static_cast<double>(h & 0xffffffffULL) * 0x1.0p-32;
-  return std::sqrt(-2.0 * std::log(u1)) * std::cos(6.283185307179586 * u2);
-}
 
 }  // namespace plslam::synth

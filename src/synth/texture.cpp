@@ -258,8 +258,4 @@ Rgb FaceTexture::walk(int start, double s, double t) const {
   return leafColour(st, seed_hue_, l.hash, Palette{l.c0, l.c1}, s, t, l.x0, l.x1, l.y0, l.y1, true);
 }
 
-Rgb textureColour(Material m, uint64_t seed, double s, double t, double w, double h) {
-  return FaceTexture(m, seed, w, h).colour(s, t);
-}
-
 }  // namespace plslam::synth

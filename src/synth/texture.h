@@ -75,8 +75,4 @@ class FaceTexture {
   std::vector<int> grid_;    ///< start node per cell, row-major
 };
 
-/// Colour at (s, t) metres from the corner of a face of `w` x `h` metres (builds the
-/// face's FaceTexture for one lookup: use FaceTexture for many).
-Rgb textureColour(Material m, uint64_t seed, double s, double t, double w, double h);
-
 }  // namespace plslam::synth
