@@ -209,15 +209,23 @@ void LoopCloser::index(Id id, const KeyframeBow& bow) {
 std::optional<LoopCorrection> LoopCloser::processKeyframe(Id id) {
   ++stats_.queries;
   ++keyframes_since_loop_;
-  // Copy what is needed under the lock; the bags are computed outside it.
-  FrameFeatures features;
-  std::vector<KeyframeInstance> instances;
+  LoopQuery query;
+  std::vector<LoopCandidate> candidates;
+  if (!scoreCandidates(id, &query, &candidates)) return std::nullopt;
+  const std::vector<LoopCandidate> passed = consistentCandidates(std::move(candidates));
+  return verifyAndClose(query, passed);
+}
+
+bool LoopCloser::scoreCandidates(Id id, LoopQuery* query, std::vector<LoopCandidate>* out) {
+  FrameFeatures& features = query->features;
+  std::vector<KeyframeInstance>& instances = query->instances;
+  FeatureGeometry& query_geometry = query->geometry;
   std::vector<std::pair<Id, int>> covisible;
-  FeatureGeometry query_geometry;
+  // Copy what is needed under the lock; the bags are computed outside it.
   {
     std::lock_guard<std::mutex> lock(map_->mutex());
     const KeyFrame* kf = map_->keyframe(id);
-    if (!kf) return std::nullopt;
+    if (!kf) return false;
     features = kf->features;
     instances = kf->instances;
     covisible = map_->covisible(id, 1);
@@ -250,7 +258,7 @@ std::optional<LoopCorrection> LoopCloser::processKeyframe(Id id) {
     }
   }
 
-  std::vector<LoopCandidate> candidates;
+  std::vector<LoopCandidate>& candidates = *out;
   for (const DatabaseScore& s : database_.query(bow)) {
     if (excluded.count(s.keyframe)) continue;
     LoopCandidate c;
@@ -278,7 +286,10 @@ std::optional<LoopCorrection> LoopCloser::processKeyframe(Id id) {
   std::stable_sort(candidates.begin(), candidates.end(),
                    [](const LoopCandidate& a, const LoopCandidate& b) { return a.normalised > b.normalised; });
   if (static_cast<int>(candidates.size()) > options_.max_candidates) candidates.resize(options_.max_candidates);
+  return true;
+}
 
+std::vector<LoopCandidate> LoopCloser::consistentCandidates(std::vector<LoopCandidate> candidates) {
   // Consistency: a candidate's covisibility group must overlap a group of the previous keyframe.
   std::vector<Group> new_groups;
   std::vector<LoopCandidate> passed;
@@ -317,7 +328,12 @@ std::optional<LoopCorrection> LoopCloser::processKeyframe(Id id) {
     passed.push_back(c);
   }
   groups_ = std::move(new_groups);
+  return passed;
+}
 
+std::optional<LoopCorrection> LoopCloser::verifyAndClose(const LoopQuery& query, std::vector<LoopCandidate> passed) {
+  const double diagonal = std::hypot(camera_.width, camera_.height);
+  const std::vector<KeyframeInstance>& instances = query.instances;
   for (LoopCandidate& c : passed) {
     if (keyframes_since_loop_ < options_.min_keyframes_between_loops) {
       c.status = LoopStatus::kNoConsistentGroup;
@@ -337,7 +353,7 @@ std::optional<LoopCorrection> LoopCloser::processKeyframe(Id id) {
       other_geometry = landmarksInCamera(*map_, *kf);
     }
     std::vector<std::pair<int, int>> inlier_pairs;
-    verifyGeometry(features, other, camera_, options_, &c, &inlier_pairs, &query_geometry, &other_geometry);
+    verifyGeometry(query.features, other, camera_, options_, &c, &inlier_pairs, &query.geometry, &other_geometry);
     if (c.status == LoopStatus::kAccepted && options_.use_semantics && !instances.empty() && !other_instances.empty()) {
       const SemanticResult sem =
           matchInstances(instances, other_instances, diagonal, options_.semantic, c.T_query_candidate);

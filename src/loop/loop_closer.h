@@ -196,6 +196,20 @@ class LoopCloser {
   const VocabularySet& vocabulary() const { return *vocabulary_; }
 
  private:
+  /// What the search for a keyframe's loop keeps of it.
+  struct LoopQuery {
+    FrameFeatures features;
+    std::vector<KeyframeInstance> instances;
+    FeatureGeometry geometry;  ///< its landmarks in its camera frame
+  };
+  /// Steps 1-2: indexes keyframe `id` and scores the database against it (the best
+  /// max_candidates, normalised, semantic factor applied). False when the keyframe is gone.
+  bool scoreCandidates(Id id, LoopQuery* query, std::vector<LoopCandidate>* candidates);
+  /// Step 3: the candidates above the threshold seen consistently; records the others.
+  std::vector<LoopCandidate> consistentCandidates(std::vector<LoopCandidate> candidates);
+  /// Steps 4-5: geometric (and semantic) verification, then the correction of the first
+  /// candidate that passes; records every candidate examined.
+  std::optional<LoopCorrection> verifyAndClose(const LoopQuery& query, std::vector<LoopCandidate> passed);
   /// A pose graph over every keyframe, taken from the map (caller holds its lock).
   struct PoseGraphSnapshot {
     std::vector<Id> ids;     ///< keyframes, ascending

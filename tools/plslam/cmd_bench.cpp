@@ -429,45 +429,14 @@ std::string resultsJson(const std::vector<SequenceResult>& results, const std::v
   return os.str();
 }
 
-int runBench(int argc, char** argv) {
-  const char* env_shared = std::getenv("PLSLAM_SHARED_DIR");
-  const std::string default_shared =
-      env_shared && *env_shared ? env_shared
-                                 : (fs::path(PLSLAM_SOURCE_DIR) / ".." / "shared").lexically_normal().string();
-  Args args("bench",
-            "Benchmark: every TUM sequence of <shared>/data/tum and synthetic scenes, N threaded runs each, "
-            "one Markdown table (docs/BENCHMARK.md).");
-  args.option("shared", "the shared/ folder with data/tum/ ($PLSLAM_SHARED_DIR, else <source>/../shared)",
-              default_shared)
-      .option("calib-dir", "folder with tum_freiburg{1,2,3}.xml", std::string(PLSLAM_SOURCE_DIR) + "/calib")
-      .option("out", "output folder: results.md, results.json, <sequence>/run<k>/, synthetic_<scene>/",
-              "maps/bench")
-      .option("runs", "runs per sequence (the table gives the median with min and max)", "3")
-      .option("synthetic-frames", "frames of each synthetic scene [default: the scene's own, 300; loop 450]")
-      .option("scenes", "synthetic scenes, comma-separated: static, dynamic, loop, crowded; or none", "static")
-      .option("sequences", "only these rows, comma-separated (TUM folder names, synthetic_<scene>)")
-      .option("config", "YAML run options (as plslam run --config)")
-      .flag("no-lines", "points only: no line features")
-      .flag("no-dynamic", "no rejection of moving objects (default: geometric checks, no segmenter)")
-      .flag("masks", "instance masks too: TUM rows through the YOLOv8-seg model of --model, synthetic rows replayed from their masks/")
-      .option("model", "YOLOv8-seg ONNX model for --masks [default: <shared>/models/yolov8n-seg-320.onnx]")
-      .flag("no-loop", "no loop closure")
-      .flag("sequential", "deterministic single-thread order instead of the threaded mode")
-      .option("pace", "threaded runs: 'recorded' feeds each frame at its recorded time, as a camera delivers them (and as "
-                      "ORB-SLAM2's TUM example does); 'fast' feeds the next frame as soon as the last is tracked",
-              "recorded")
-      .option("log-level", "debug, info, warn, error or off", "warn")
-      .epilog(
-          "TUM folders (those with rgb.txt) take their camera from the name: fr1/freiburg1 -> tum_freiburg1.xml,\n"
-          "fr2 -> tum_freiburg2.xml, fr3 -> tum_freiburg3.xml; other names are skipped with a warning.\n"
-          "Synthetic scenes are rendered once into <out>/synthetic_<scene> and reused while scene.txt matches.\n"
-          "Measure a Release build; the machine's load shows in the times.\n\n"
-          "example: plslam bench --runs 3 --scenes static,dynamic --out maps/bench\n"
-          "         plslam bench --runs 3 --scenes dynamic,crowded --masks --out maps/bench_masks");
-  if (!args.parse(argc, argv)) return 0;
-  setLogLevel(parseLogLevel(args.str("log-level")));
-  const auto bench_t0 = std::chrono::steady_clock::now();
+/// Says `text` on stderr now and keeps it for the notes under the table.
+void addNote(std::vector<std::string>* notes, const std::string& text) {
+  std::fprintf(stderr, "[bench] %s\n", text.c_str());
+  notes->push_back(text);
+}
 
+/// The bench's run options from its arguments.
+BenchSettings benchSettings(const Args& args) {
   BenchSettings settings;
   settings.out = args.str("out");
   settings.runs = args.integer("runs", 1, 1000);
@@ -484,7 +453,12 @@ int runBench(int argc, char** argv) {
   settings.model = args.has("model") ? args.str("model") : (fs::path(args.str("shared")) / "models" / "yolov8n-seg-320.onnx").string();
   if (settings.masks && !settings.options.dynamic.enabled) throw ConfigError("plslam bench: --masks and --no-dynamic exclude each other");
   settings.config_yaml = table.toYaml("plslam bench: effective configuration");
+  return settings;
+}
 
+/// The rows to run, in table order: TUM folders by name, then the synthetic scenes; what is
+/// skipped is said in `notes`. Throws when nothing is left or --masks lacks its model.
+std::vector<SequenceSpec> benchRows(const Args& args, const BenchSettings& settings, std::vector<std::string>* notes) {
   std::vector<synth::SceneKind> scenes;
   const std::string scene_list = args.str("scenes");
   if (scene_list != "none")
@@ -492,18 +466,7 @@ int runBench(int argc, char** argv) {
       const synth::SceneKind kind = synth::parseSceneKind(name);
       if (std::find(scenes.begin(), scenes.end(), kind) == scenes.end()) scenes.push_back(kind);
     }
-  const int synthetic_frames = args.has("synthetic-frames") ? args.integer("synthetic-frames", 2, 1000000) : 0;
-
-  if (std::string(PLSLAM_BUILD_TYPE) != "Release")
-    std::fprintf(stderr, "[bench] warning: this is a '%s' build, not Release: times are not representative\n",
-                 PLSLAM_BUILD_TYPE);
-
-  // The candidate rows, in table order: TUM folders by name, then the synthetic scenes.
-  std::vector<std::string> notes;  // skips and warnings, printed under the table
-  auto note = [&](const std::string& text) {
-    std::fprintf(stderr, "[bench] %s\n", text.c_str());
-    notes.push_back(text);
-  };
+  auto note = [notes](const std::string& text) { addNote(notes, text); };
   std::vector<SequenceSpec> specs;
   const std::string shared = args.str("shared");
   const fs::path tum_root = fs::path(shared) / "data" / "tum";
@@ -559,36 +522,12 @@ int runBench(int argc, char** argv) {
       !fs::is_regular_file(settings.model, ec))
     throw IoError(settings.model + ": no such model file (--masks needs a YOLOv8-seg ONNX model for the TUM rows; give --model)");
 
-  fs::create_directories(settings.out, ec);
-  if (!fs::is_directory(settings.out)) throw IoError(settings.out + ": cannot create the output folder");
+  return specs;
+}
 
-  std::vector<SequenceResult> results;
-  bool interrupted = false, failed = false;
-  for (const SequenceSpec& spec : specs) {
-    if (interrupted) break;
-    SequenceResult result;
-    result.spec = spec;
-    const auto t0 = std::chrono::steady_clock::now();
-    try {
-      if (spec.kind == "synthetic") {
-        synth::SceneOptions scene_options;
-        scene_options.frames = synthetic_frames > 0 ? synthetic_frames : synth::defaultFrameCount(spec.scene);
-        result.render_s = prepareSynthetic(synth::makeScene(spec.scene, scene_options), spec.dir, spec.name);
-      }
-      const auto runs_t0 = std::chrono::steady_clock::now();
-      runSequence(settings, &result, &interrupted);
-      result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - runs_t0).count();
-    } catch (const Error& e) {
-      result.error = e.what();
-      result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      failed = true;
-      note(spec.name + " failed: " + result.error);
-    }
-    result.peak_rss_mb = peakRssMb();
-    results.push_back(std::move(result));
-  }
-
-  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - bench_t0).count();
+/// Prints the tables and writes results.md and results.json.
+void writeBenchReport(const std::vector<SequenceResult>& results, const std::vector<std::string>& notes,
+                      const BenchSettings& settings, const std::string& shared, double wall_s, bool interrupted) {
   const double peak_mb = peakRssMb();
   const std::string table_md = markdownTable(results, settings);
   const std::string profile_md =
@@ -620,6 +559,89 @@ int runBench(int argc, char** argv) {
   writeFileAtomically(settings.out + "/results.json",
                       resultsJson(results, notes, settings, shared, peak_mb, wall_s, interrupted));
   std::fprintf(stderr, "[bench] wrote %s/results.md and results.json\n", settings.out.c_str());
+}
+
+int runBench(int argc, char** argv) {
+  const char* env_shared = std::getenv("PLSLAM_SHARED_DIR");
+  const std::string default_shared =
+      env_shared && *env_shared ? env_shared
+                                 : (fs::path(PLSLAM_SOURCE_DIR) / ".." / "shared").lexically_normal().string();
+  Args args("bench",
+            "Benchmark: every TUM sequence of <shared>/data/tum and synthetic scenes, N threaded runs each, "
+            "one Markdown table (docs/BENCHMARK.md).");
+  args.option("shared", "the shared/ folder with data/tum/ ($PLSLAM_SHARED_DIR, else <source>/../shared)",
+              default_shared)
+      .option("calib-dir", "folder with tum_freiburg{1,2,3}.xml", std::string(PLSLAM_SOURCE_DIR) + "/calib")
+      .option("out", "output folder: results.md, results.json, <sequence>/run<k>/, synthetic_<scene>/",
+              "maps/bench")
+      .option("runs", "runs per sequence (the table gives the median with min and max)", "3")
+      .option("synthetic-frames", "frames of each synthetic scene [default: the scene's own, 300; loop 450]")
+      .option("scenes", "synthetic scenes, comma-separated: static, dynamic, loop, crowded; or none", "static")
+      .option("sequences", "only these rows, comma-separated (TUM folder names, synthetic_<scene>)")
+      .option("config", "YAML run options (as plslam run --config)")
+      .flag("no-lines", "points only: no line features")
+      .flag("no-dynamic", "no rejection of moving objects (default: geometric checks, no segmenter)")
+      .flag("masks", "instance masks too: TUM rows through the YOLOv8-seg model of --model, synthetic rows replayed from their masks/")
+      .option("model", "YOLOv8-seg ONNX model for --masks [default: <shared>/models/yolov8n-seg-320.onnx]")
+      .flag("no-loop", "no loop closure")
+      .flag("sequential", "deterministic single-thread order instead of the threaded mode")
+      .option("pace", "threaded runs: 'recorded' feeds each frame at its recorded time, as a camera delivers them (and as "
+                      "ORB-SLAM2's TUM example does); 'fast' feeds the next frame as soon as the last is tracked",
+              "recorded")
+      .option("log-level", "debug, info, warn, error or off", "warn")
+      .epilog(
+          "TUM folders (those with rgb.txt) take their camera from the name: fr1/freiburg1 -> tum_freiburg1.xml,\n"
+          "fr2 -> tum_freiburg2.xml, fr3 -> tum_freiburg3.xml; other names are skipped with a warning.\n"
+          "Synthetic scenes are rendered once into <out>/synthetic_<scene> and reused while scene.txt matches.\n"
+          "Measure a Release build; the machine's load shows in the times.\n\n"
+          "example: plslam bench --runs 3 --scenes static,dynamic --out maps/bench\n"
+          "         plslam bench --runs 3 --scenes dynamic,crowded --masks --out maps/bench_masks");
+  if (!args.parse(argc, argv)) return 0;
+  setLogLevel(parseLogLevel(args.str("log-level")));
+  const auto bench_t0 = std::chrono::steady_clock::now();
+
+  const BenchSettings settings = benchSettings(args);
+  const int synthetic_frames = args.has("synthetic-frames") ? args.integer("synthetic-frames", 2, 1000000) : 0;
+  if (std::string(PLSLAM_BUILD_TYPE) != "Release")
+    std::fprintf(stderr, "[bench] warning: this is a '%s' build, not Release: times are not representative\n",
+                 PLSLAM_BUILD_TYPE);
+
+  std::vector<std::string> notes;  // skips and warnings, printed under the table
+  auto note = [&notes](const std::string& text) { addNote(&notes, text); };
+  const std::vector<SequenceSpec> specs = benchRows(args, settings, &notes);
+  const std::string shared = args.str("shared");
+  std::error_code ec;
+  fs::create_directories(settings.out, ec);
+  if (!fs::is_directory(settings.out)) throw IoError(settings.out + ": cannot create the output folder");
+
+  std::vector<SequenceResult> results;
+  bool interrupted = false, failed = false;
+  for (const SequenceSpec& spec : specs) {
+    if (interrupted) break;
+    SequenceResult result;
+    result.spec = spec;
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+      if (spec.kind == "synthetic") {
+        synth::SceneOptions scene_options;
+        scene_options.frames = synthetic_frames > 0 ? synthetic_frames : synth::defaultFrameCount(spec.scene);
+        result.render_s = prepareSynthetic(synth::makeScene(spec.scene, scene_options), spec.dir, spec.name);
+      }
+      const auto runs_t0 = std::chrono::steady_clock::now();
+      runSequence(settings, &result, &interrupted);
+      result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - runs_t0).count();
+    } catch (const Error& e) {
+      result.error = e.what();
+      result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      failed = true;
+      note(spec.name + " failed: " + result.error);
+    }
+    result.peak_rss_mb = peakRssMb();
+    results.push_back(std::move(result));
+  }
+
+  writeBenchReport(results, notes, settings, shared,
+                   std::chrono::duration<double>(std::chrono::steady_clock::now() - bench_t0).count(), interrupted);
   return interrupted ? 130 : failed ? 1 : 0;
 }
 
