@@ -92,3 +92,13 @@ TEST(RunCli, CtrlCStopsAndStillWritesWhatItHas) {
   EXPECT_LT(lines, 200 + 2) << "the run should have been cut short";
   EXPECT_TRUE(fs::exists(out + "/stats.json"));
 }
+
+TEST(RunCli, ProgressInALogIsPlainLinesEndingWithTheLastState) {
+  // Captured output is a pipe, not a terminal: no carriage returns, and the final count.
+  const std::string scratch = test::scratchDir("runcli");
+  const std::string data = syntheticFolder(scratch, 30);
+  const auto r = test::runPlslam(runArgs(data, scratch + "/out") + " --sequential --no-dense");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(r.output.find('\r'), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("[run] frame 30/30"), std::string::npos) << r.output;
+}

@@ -16,6 +16,7 @@
 #include <sstream>
 #include <thread>
 
+#include "progress_line.h"
 #include "camera/camera_file.h"
 #include "commands.h"
 #include "core/atomic_file.h"
@@ -183,12 +184,13 @@ double prepareSynthetic(const synth::Scene& scene, const std::string& dir, const
   synth::DatasetOptions options;
   options.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   const auto t0 = std::chrono::steady_clock::now();
+  ProgressLine line("bench");
   options.progress = [&](int done, int total) {
     if (done % 10 != 0 && done != total) return;
-    std::fprintf(stderr, "\r[bench] rendering %s: frame %d/%d%s", name.c_str(), done, total, done == total ? "\n" : "");
-    std::fflush(stderr);
+    line.update("rendering %s: frame %d/%d", name.c_str(), done, total);
   };
   synth::writeDataset(scene, dir, options);
+  line.done();
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
@@ -240,13 +242,12 @@ void runSequence(const BenchSettings& settings, SequenceResult* result, bool* in
     FeedResult fed;
     {
       SigintGuard sigint;
+      ProgressLine line("bench");
       fed = feedFrames(&slam, &dataset, [&](const FeedProgress& p) {
-        std::fprintf(stderr, "\r[bench] %s run %d/%d frame %zu/%zu  tracked %d  keyframes %zu  %.1f frames/s  ",
-                     spec.name.c_str(), k, settings.runs, p.done, p.total, p.tracked, p.keyframes,
-                     p.done / std::max(p.seconds, 1e-9));
-        std::fflush(stderr);
+        line.update("%s run %d/%d frame %zu/%zu  tracked %d  keyframes %zu  %.1f frames/s", spec.name.c_str(), k,
+                    settings.runs, p.done, p.total, p.tracked, p.keyframes, p.done / std::max(p.seconds, 1e-9));
       }, 500, settings.options.sequential ? Pace::kAsFastAsPossible : settings.pace);
-      std::fprintf(stderr, "\n");
+      line.done();
     }
     if (fed.interrupted) {
       *interrupted = true;

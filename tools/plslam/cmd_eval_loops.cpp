@@ -27,6 +27,7 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "progress_line.h"
 #include "camera/camera_file.h"
 #include "commands.h"
 #include "core/atomic_file.h"
@@ -156,6 +157,7 @@ int runEvalLoops(int argc, char** argv) {
   fo.parallel = false;
   std::vector<FrameInfo> frames;
   RgbdFrame frame;
+  ProgressLine line("eval loops");
   for (size_t i = 0; i < dataset.size(); i += every) {
     if (dataset.load(i, &frame) != FrameStatus::kOk) continue;
     const SE3* T = groundTruthAt(dataset.groundtruth(), frame.t_ns, 20'000'000LL);
@@ -170,9 +172,9 @@ int runEvalLoops(int argc, char** argv) {
     if (so.kind != SegmenterKind::kNone)
       f.instances = describeInstances(segmenter->segment(frame), {}, frame.depth_m, camera);
     frames.push_back(std::move(f));
-    std::fprintf(stderr, "\r[eval loops] frame %zu/%zu  ", i + 1, dataset.size());
+    line.update("frame %zu/%zu", i + 1, dataset.size());
   }
-  std::fprintf(stderr, "\n");
+  line.done();
   if (frames.size() < 2) throw DataError(dir + ": fewer than two frames with ground truth");
 
   int with_instances = 0;

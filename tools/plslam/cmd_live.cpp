@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "progress_line.h"
 #include "camera/camera_file.h"
 #include "capture/frame_grabber.h"
 #include "commands.h"
@@ -72,16 +73,16 @@ int runLiveCommand(int argc, char** argv) {
   LiveStats stats;
   {
     SigintGuard sigint;
+    ProgressLine line("live");
     stats = runLive(
         grabber.get(), &slam, live, [] { return SigintGuard::interrupted(); },
         [&](const LiveProgress& p) {
           if (!progress) return;
-          std::fprintf(stderr, "\r[live] grabbed %d  processed %d  dropped %d  tracked %d  %.1f s  ", p.grabbed,
-                       p.processed, p.dropped, p.tracked, p.seconds);
-          std::fflush(stderr);
+          line.update("grabbed %d  processed %d  dropped %d  tracked %d  %.1f s", p.grabbed, p.processed, p.dropped,
+                      p.tracked, p.seconds);
         },
         500, &recording);
-    if (progress) std::fprintf(stderr, "\n");
+    line.done();
   }
   grabber->close();
   slam.finish();

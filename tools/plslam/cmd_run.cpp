@@ -7,6 +7,7 @@
 #include <optional>
 #include <sstream>
 
+#include "progress_line.h"
 #include "camera/camera_file.h"
 #include "commands.h"
 #include "core/error.h"
@@ -126,13 +127,13 @@ int runRun(int argc, char** argv) {
   FeedResult fed;
   {
     SigintGuard sigint;
+    ProgressLine line("run");
     fed = feedFrames(&slam, &dataset, [&](const FeedProgress& p) {
       if (!progress) return;
-      std::fprintf(stderr, "\r[run] frame %zu/%zu  tracked %d  keyframes %zu  %.1f frames/s  ", p.done, p.total,
-                   p.tracked, p.keyframes, p.done / std::max(p.seconds, 1e-9));
-      std::fflush(stderr);
+      line.update("frame %zu/%zu  tracked %d  keyframes %zu  %.1f frames/s", p.done, p.total, p.tracked, p.keyframes,
+                  p.done / std::max(p.seconds, 1e-9));
     }, 500, args.has("realtime") ? Pace::kRecorded : Pace::kAsFastAsPossible);
-    if (progress) std::fprintf(stderr, "\n");
+    line.done();
   }
   if (fed.interrupted) std::fprintf(stderr, "[run] interrupted: finishing and writing what there is\n");
   slam.finish();

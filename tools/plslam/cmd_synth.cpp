@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "progress_line.h"
 #include "args.h"
 #include "commands.h"
 #include "core/error.h"
@@ -59,14 +60,15 @@ int runSynth(int argc, char** argv) {
     dopt.depth_offset_ns = static_cast<TimeNs>(args.number("depth-offset-ms") * 1e6);
     dopt.threads = args.integer("threads", 1, 64);
     const auto start = std::chrono::steady_clock::now();
+    ProgressLine line("synth");
     dopt.progress = [&](int done, int total) {
       if (done % 10 != 0 && done != total) return;
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      std::fprintf(stderr, "\rsynth %s: frame %d/%d (%.1f s, %.0f ms/frame)%s", synth::sceneKindName(kind), done, total,
-                   s, 1000.0 * s / done, done == total ? "\n" : "");
-      std::fflush(stderr);
+      line.update("%s: frame %d/%d (%.1f s, %.0f ms/frame)", synth::sceneKindName(kind), done, total, s,
+                  1000.0 * s / done);
     };
     synth::writeDataset(scene, args.str("out"), dopt);
+    line.done();
     std::cout << "wrote " << opt.frames << " frames of the '" << synth::sceneKindName(kind) << "' scene to "
               << args.str("out") << "\n";
   }

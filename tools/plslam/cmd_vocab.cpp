@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
+#include "progress_line.h"
 #include "commands.h"
 #include "core/error.h"
 #include "core/log.h"
@@ -56,6 +57,7 @@ int runTrain(int argc, char** argv) {
   for (std::string dir; std::getline(list, dir, ',');) {
     if (dir.empty()) continue;
     const std::vector<std::string> files = imagesOf(dir);
+    ProgressLine line("vocab");
     for (size_t i = 0; i < files.size(); i += every) {
       const cv::Mat image = cv::imread(files[i], cv::IMREAD_COLOR);
       if (image.empty()) throw IoError(files[i] + ": cannot read the image");
@@ -66,9 +68,9 @@ int runTrain(int argc, char** argv) {
       orb.push_back(d);
       const std::vector<LineSegment2D> segs = detectLines(grey, cv::Mat(), fo.lines);
       lbd.push_back(describeLines(grey, segs, fo.lines));
-      std::fprintf(stderr, "\r[vocab] %s: image %zu/%zu   ", dir.c_str(), i + 1, files.size());
+      line.update("%s: image %zu/%zu", dir.c_str(), i + 1, files.size());
     }
-    std::fprintf(stderr, "\n");
+    line.done();
   }
   VocabularySet v;
   v.orb = Vocabulary::train(orb, o);

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "progress_line.h"
 #include "run_session.h"
 
 namespace plslam::cli {
@@ -9,15 +10,13 @@ namespace plslam::cli {
 bool writeDenseMaps(const Map& map, const PinholeCamera& camera, const DenseOptions& options,
                     const DenseSelection& what, const std::string& dir, bool progress) {
   SigintGuard sigint;
+  ProgressLine line("dense");
   DenseProducts products = buildDenseProducts(map, camera, options, what, [&](const std::string& stage, size_t done,
                                                                               size_t total) {
-    if (progress) {
-      std::fprintf(stderr, "\r[dense] %s: keyframe %zu/%zu      ", stage.c_str(), done, total);
-      std::fflush(stderr);
-    }
+    if (progress) line.update("%s: keyframe %zu/%zu", stage.c_str(), done, total);
     return !SigintGuard::interrupted();
   });
-  if (progress) std::fprintf(stderr, "\n");
+  line.done();
   if (products.cancelled) std::fprintf(stderr, "[dense] interrupted: no dense product written\n");
   const std::vector<WrittenFile> files = writeDenseProducts(dir, products, what, options);
   std::printf("dense: %d keyframes (%d with a cloud, %zu points), fused cloud %zu points\n", products.keyframes,
