@@ -1,6 +1,6 @@
 # Every dependency comes from a Debian package (see scripts in .ci/ and tools/setup.sh).
 find_package(Eigen3 3.3 REQUIRED NO_MODULE)
-find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs features2d calib3d line_descriptor ximgproc dnn)
+find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs features2d calib3d video line_descriptor ximgproc dnn)
 find_package(Threads REQUIRED)
 
 # find_package(VISP) rewrites CMAKE_CXX_FLAGS (it appends its own build flags): keep ours.

@@ -72,13 +72,16 @@ DynamicMaskResult fuseDynamicMask(const DynamicEvidence& ev, cv::Size size, cons
     else if (graph && graph->in_graph[i]) moving[i] = graph->moving[i];
     if (moving[i] >= 0) ++res.stats.features_checked;
   }
+  const cv::Mat* labels = seg && ev.feature_labels ? ev.feature_labels : seg ? &seg->instance_ids : nullptr;
+  if (labels && (labels->type() != CV_16UC1 || labels->size() != size))
+    throw DataError("dynamic mask: the feature labels differ from the instance label image in size or type");
   std::vector<int> label(n, 0);  // instance id under the current pixel
-  if (seg) {
+  if (labels) {
     for (size_t i = 0; i < n; ++i) {
       const auto& uv = corr[i].uv_cur;
       if (!uv.allFinite()) continue;
       const int x = static_cast<int>(std::lround(uv.x())), y = static_cast<int>(std::lround(uv.y()));
-      if (x >= 0 && y >= 0 && x < size.width && y < size.height) label[i] = seg->instance_ids.at<uint16_t>(y, x);
+      if (x >= 0 && y >= 0 && x < size.width && y < size.height) label[i] = labels->at<uint16_t>(y, x);
     }
   }
 

@@ -102,6 +102,10 @@ struct DynamicEvidence {
   const MotionCheckResult* motion = nullptr;
   const DelaunayMotionResult* delaunay = nullptr;
   const Segmentation* segmentation = nullptr;
+  /// Labels (as segmentation->instance_ids) that assign the features to instances; null: the
+  /// segmentation's own. Carried masks give their interiors: near a carried outline a
+  /// feature is as likely on the background.
+  const cv::Mat* feature_labels = nullptr;
   /// Triangles of keypoints judged moving after label spreading (label_spread.h), current
   /// pixels: masked as they are, grown by moving_area_dilate_px only.
   const std::vector<std::array<cv::Point2f, 3>>* moving_triangles = nullptr;

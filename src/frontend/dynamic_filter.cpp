@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "core/error.h"
 #include "core/log.h"
 #include "features/matching.h"
 
@@ -69,7 +70,13 @@ void DynamicFilter::removeLines(FrameFeatures* f, DynamicFrameResult* r) const {
 
 DynamicFilter::DynamicFilter(PinholeCamera camera, DynamicFilterOptions options, std::unique_ptr<Segmenter> segmenter,
                              bool asynchronous)
-    : camera_(std::move(camera)), options_(options), segmenter_(std::move(segmenter)), asynchronous_(asynchronous) {
+    : camera_(std::move(camera)),
+      options_(options),
+      segmenter_(std::move(segmenter)),
+      asynchronous_(asynchronous),
+      carrier_(options.propagation) {
+  if (options_.latency_frames < 0)
+    throw ConfigError(str("dynamic.replay_latency_frames must be >= 0 (got ", options_.latency_frames, ")"));
   // The "none" segmenter gives nothing: no worker, no requests, no mask ages to report.
   if (segmenter_ && segmenter_->name() == "none") segmenter_.reset();
   if (segmenter_ && asynchronous_) worker_ = std::thread([this] { workerLoop(); });
@@ -81,74 +88,114 @@ DynamicFilter::~DynamicFilter() {
     stop_ = true;
   }
   wake_.notify_all();
+  done_.notify_all();
   if (worker_.joinable()) worker_.join();
+}
+
+bool DynamicFilter::carriesMasks() const {
+  // Only late masks, delivered after frames were processed without them: sequential mode
+  // without a latency uses each segmented frame's own masks, and carrying them to the frames
+  // in between changed nothing on the crowded scene and nominally worsened the other scenes.
+  return options_.propagate_masks && (asynchronous_ || options_.latency_frames > 0);
+}
+
+DynamicFilter::Segmented DynamicFilter::segmentNow(const RgbdFrame& frame, int frame_number) {
+  Segmented out;
+  out.frame = frame_number;
+  Segmentation s = segmenter_->segment(frame);
+  // Prepared here, on the worker in the threaded mode: the tracking thread only tracks the corners.
+  if (carriesMasks()) out.source = preparePropagation(std::move(s), frame.bgr, options_.propagation);
+  else out.source.segmentation = std::move(s);
+  return out;
 }
 
 void DynamicFilter::workerLoop() {
   for (;;) {
-    RgbdFrame frame;
-    int frame_number = -1;
+    std::pair<RgbdFrame, int> job;
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      wake_.wait(lock, [&] { return stop_ || pending_.has_value(); });
+      wake_.wait(lock, [&] { return stop_ || !requests_.empty(); });
       if (stop_) return;
-      frame = std::move(*pending_);
-      frame_number = pending_frame_;
-      pending_.reset();
+      job = std::move(requests_.front());
+      requests_.pop_front();
       busy_ = true;
     }
-    Segmentation s;
+    std::optional<Segmented> s;
     try {
-      s = segmenter_->segment(frame);
+      s = segmentNow(job.first, job.second);
     } catch (const std::exception& e) {
-      kLog.warn(str("segmentation of t=", formatSecondsStamp(frame.t_ns), " failed: ", e.what()));
+      kLog.warn(str("segmentation of t=", formatSecondsStamp(job.first.t_ns), " failed: ", e.what()));
     }
     {
       std::lock_guard<std::mutex> lock(mutex_);
       busy_ = false;
-      if (!s.empty()) finished_ = std::make_pair(std::move(s), frame_number);
+      finished_upto_ = job.second;  // failed too: a frame waiting for it must not wait forever
+      if (s && !s->source.segmentation.empty()) finished_.push_back(std::move(*s));
     }
     done_.notify_all();
   }
 }
 
+int DynamicFilter::dueFrame() const {
+  // The first frame waits for its own masks (once, one segmentation long): the map starts
+  // from it, the geometric check has no earlier frame to judge it by, and without masks the
+  // people in view would become the map's first landmarks.
+  if (frame_count_ == 0) return 0;
+  if (options_.latency_frames == 0) return -1;
+  const int every = std::max(1, options_.segment_every);
+  const int n = frame_count_ - options_.latency_frames;
+  return n < 0 ? -1 : n / every * every;
+}
+
+std::optional<DynamicFilter::Segmented> DynamicFilter::takeDue(std::deque<Segmented>* segmented) const {
+  std::optional<Segmented> newest;
+  while (!segmented->empty() &&
+         (segmented->front().frame == 0 || segmented->front().frame + options_.latency_frames <= frame_count_)) {
+    newest = std::move(segmented->front());
+    segmented->pop_front();
+  }
+  return newest;
+}
+
+std::optional<DynamicFilter::Segmented> DynamicFilter::segmentInline(const RgbdFrame& frame) {
+  if (frame_count_ % std::max(1, options_.segment_every) == 0) held_back_.push_back(segmentNow(frame, frame_count_));
+  return takeDue(&held_back_);
+}
+
+std::optional<DynamicFilter::Segmented> DynamicFilter::segmentOnWorker(const RgbdFrame& frame) {
+  const int every = std::max(1, options_.segment_every);
+  std::unique_lock<std::mutex> lock(mutex_);
+  // With a latency, the sequential mode's schedule (the same frames segmented). Without, ask as
+  // soon as the worker is idle and `every` frames have passed since the last request: waiting
+  // for the next multiple of `every` would add up to every-1 frames of age.
+  const bool ask = options_.latency_frames > 0
+                       ? frame_count_ % every == 0
+                       : (last_request_frame_ < 0 || frame_count_ - last_request_frame_ >= every) && !busy_ &&
+                             requests_.empty();
+  if (ask) {
+    requests_.emplace_back(deepCopy(frame), frame_count_);  // the worker owns its images (see deepCopy)
+    last_request_frame_ = frame_count_;
+    wake_.notify_one();
+  }
+  const int due = dueFrame();
+  if (due >= 0) done_.wait(lock, [&] { return finished_upto_ >= due || stop_; });
+  return takeDue(&finished_);
+}
+
 Segmentation DynamicFilter::latestSegmentation(const RgbdFrame& frame, DynamicFrameResult* r) {
   if (!segmenter_) return {};
-  const int every = std::max(1, options_.segment_every);
-  if (!asynchronous_) {
-    if (frame_count_ % every == 0) {
-      latest_ = segmenter_->segment(frame);
-      latest_frame_ = frame_count_;
-      r->segmentation_ms = latest_.ms;
-    }
-  } else {
-    std::unique_lock<std::mutex> lock(mutex_);
-    // Ask as soon as the worker is idle and `every` frames have passed since the last
-    // request: waiting for the next multiple of `every` would add up to every-1 frames of age.
-    const bool waited = last_request_frame_ < 0 || frame_count_ - last_request_frame_ >= every;
-    if (waited && !busy_ && !pending_) {
-      pending_ = deepCopy(frame);  // the worker owns its images (see deepCopy)
-      pending_frame_ = frame_count_;
-      last_request_frame_ = frame_count_;
-      wake_.notify_one();
-    }
-    // The first frame waits for its own masks (once, one segmentation long): the map starts
-    // from it, the geometric check has no earlier frame to judge it by, and without masks the
-    // people in view would become the map's first landmarks.
-    if (frame_count_ == 0)
-      done_.wait(lock, [&] { return finished_.has_value() || (!busy_ && !pending_) || stop_; });
-    if (finished_) {
-      latest_ = std::move(finished_->first);
-      latest_frame_ = finished_->second;
-      finished_.reset();
-      r->segmentation_ms = latest_.ms;
-    }
+  if (carriesMasks()) carrier_.addFrame(frame_count_, frame.bgr);
+  if (std::optional<Segmented> arrived = asynchronous_ ? segmentOnWorker(frame) : segmentInline(frame)) {
+    latest_ = std::move(*arrived);
+    r->segmentation_ms = latest_.source.segmentation.ms;
+    if (carriesMasks()) carrier_.setSource(latest_.source, latest_.frame);
   }
-  if (latest_frame_ >= 0) {
-    r->mask_age_frames = frame_count_ - latest_frame_;
-    r->fresh_segmentation = r->mask_age_frames < every;
-  }
-  return latest_;
+  if (latest_.frame < 0) return {};
+  r->mask_age_frames = frame_count_ - latest_.frame;
+  r->fresh_segmentation = r->mask_age_frames < std::max(1, options_.segment_every);
+  if (r->mask_age_frames == 0 || !carriesMasks()) return latest_.source.segmentation;
+  r->masks_propagated = true;
+  return carrier_.carry(&r->propagation);
 }
 
 DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures* f,
@@ -230,6 +277,8 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
   evidence.motion = &motion;
   evidence.delaunay = &delaunay;
   evidence.segmentation = seg.empty() ? nullptr : &seg;
+  const cv::Mat interiors = r.masks_propagated ? carriedInteriors(seg, r.propagation, options_.propagation) : cv::Mat();
+  if (!interiors.empty()) evidence.feature_labels = &interiors;
   evidence.moving_triangles = &moving_triangles;
   const DynamicMaskResult fused = fuseDynamicMask(evidence, cv::Size(camera_.width, camera_.height), options_.mask);
   r.mask = fused.mask;

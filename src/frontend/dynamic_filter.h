@@ -9,6 +9,14 @@
 // pipeline (tracking uses the newest masks that are ready, however old; only the first frame
 // waits for its own), or inline in sequential mode (deterministic).
 //
+// With `latency_frames` k > 0, segmentation follows a fixed schedule (every segment_every-th
+// frame) and the masks of frame n are used from frame n + k on, in both modes: the threaded
+// filter waits for them when the worker is behind, and keeps them back when it is ahead. A slow
+// segmenter's stale masks can so be reproduced exactly with a fast one (replayed masks).
+//
+// Late masks (threaded mode, or a latency) older than the frame are carried to it
+// (`propagate_masks`, mask_propagation.h).
+//
 // Thread safety: process() from one thread (the tracking thread).
 #pragma once
 
@@ -25,6 +33,7 @@
 #include "dynamic/delaunay_motion.h"
 #include "dynamic/dynamic_mask.h"
 #include "dynamic/label_spread.h"
+#include "dynamic/mask_propagation.h"
 #include "dynamic/motion_check.h"
 #include "dynamic/segmenter.h"
 
@@ -48,6 +57,13 @@ struct DynamicFilterOptions {
   bool spread_with_masks = false;
   LabelSpreadOptions spread;       ///< how
   DynamicMaskOptions mask;         ///< fusion into the dynamic mask
+  /// Masks are used exactly this many frames after the frame they were segmented on (0: as
+  /// soon as they are ready). For tests of stale masks; must be >= 0 (ConfigError).
+  int latency_frames = 0;
+  /// Carry late masks (threaded mode, or latency_frames > 0) to the current frame by optical
+  /// flow per instance. Sequential mode without a latency never carries masks.
+  bool propagate_masks = true;
+  MaskPropagationOptions propagation;  ///< how
 };
 
 /// What the filter did with one frame.
@@ -62,7 +78,9 @@ struct DynamicFrameResult {
   MotionCheckStatus motion_status = MotionCheckStatus::kTooFewCorrespondences;
   int instances_dynamic = 0;  ///< instances judged moving
   int instances = 0;          ///< instances in the segmentation used
-  Segmentation segmentation;  ///< the (possibly carried-over) segmentation used; empty without one
+  Segmentation segmentation;  ///< the segmentation used, moved to this frame when propagated; empty without one
+  bool masks_propagated = false;    ///< `segmentation` was carried here from an older frame
+  PropagationStats propagation;     ///< how its instances were carried
   std::vector<InstanceDecision> decisions;  ///< per instance of `segmentation`: dynamic or not, and why
   /// Per input keypoint, what the geometric checks said, after label spreading and before
   /// masks were applied: -1 unjudged, 0 still, 1 moving.
@@ -89,7 +107,17 @@ class DynamicFilter {
   void removeLines(FrameFeatures* features, DynamicFrameResult* result) const;
 
  private:
+  struct Segmented {  // a segmentation and the frame_count_ of its frame
+    PropagationSource source;
+    int frame = -1;
+  };
   Segmentation latestSegmentation(const RgbdFrame& frame, DynamicFrameResult* result);
+  std::optional<Segmented> segmentInline(const RgbdFrame& frame);
+  std::optional<Segmented> segmentOnWorker(const RgbdFrame& frame);
+  std::optional<Segmented> takeDue(std::deque<Segmented>* segmented) const;
+  int dueFrame() const;
+  Segmented segmentNow(const RgbdFrame& frame, int frame_number);
+  bool carriesMasks() const;
   void workerLoop();
 
   PinholeCamera camera_;
@@ -98,18 +126,19 @@ class DynamicFilter {
   bool asynchronous_;
   std::deque<FrameFeatures> previous_;  // the last compare_gap frames' features, oldest first
   int frame_count_ = 0;
-  Segmentation latest_;
-  int latest_frame_ = -1;  // frame_count_ of the frame latest_ was computed on
+  Segmented latest_;                  // the newest segmentation delivered
+  MaskCarrier carrier_;               // carries latest_ to the current frame (propagate_masks)
+  std::deque<Segmented> held_back_;   // sequential: segmented, not yet due (latency_frames)
 
-  // Worker: one pending frame at most (a newer one replaces it), one finished result.
+  // Worker: frames to segment (at most one without latency_frames), finished ones in order.
   std::thread worker_;
   std::mutex mutex_;
   std::condition_variable wake_;
   std::condition_variable done_;  // the worker finished a frame
-  std::optional<RgbdFrame> pending_;
-  int pending_frame_ = -1;
+  std::deque<std::pair<RgbdFrame, int>> requests_;  // with the frame_count_ each was taken at
   int last_request_frame_ = -1;  // frame_count_ of the last frame handed to the worker
-  std::optional<std::pair<Segmentation, int>> finished_;  // with the frame_count_ it was taken at
+  std::deque<Segmented> finished_;
+  int finished_upto_ = -1;  // frame_count_ of the last frame the worker is done with (failed ones too)
   bool busy_ = false, stop_ = false;
 };
 

@@ -48,6 +48,9 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
   t->bind("dynamic.moving_fraction", &d.mask.moving_fraction, "an instance moves when this fraction of its checked features move");
   t->bind("dynamic.min_checked_features", &d.mask.min_checked_features, "fewer checked features: the class prior decides");
   t->bind("dynamic.dilate_px", &d.mask.dilate_px, "dynamic areas grow by this many pixels");
+  t->bind("dynamic.replay_latency_frames", &d.latency_frames,
+          "use masks exactly this many frames after the frame they were segmented on, waiting for them if needed (reproduces a slow segmenter; 0: as soon as ready)");
+  t->bind("dynamic.propagate_masks", &d.propagate_masks, "carry late masks (threaded mode, or replay_latency_frames > 0) to the current frame by optical flow per instance");
   t->bind("dynamic.yolo_confidence", &o->segmenter.yolo.confidence, "YOLOv8-seg minimum class score");
   t->bind("dynamic.yolo_nms_iou", &o->segmenter.yolo.nms_iou, "YOLOv8-seg class-aware NMS overlap");
 

@@ -392,7 +392,7 @@ struct Fused {
   DynamicMaskResult mask;
 };
 
-Fused fuse(const Case& c, const Segmentation* seg) {
+Fused fuse(const Case& c, const Segmentation* seg, const cv::Mat* feature_labels = nullptr) {
   Fused f;
   f.motion = checkMotion(c.corr, c.cam);
   f.delaunay = analyseDelaunayMotion(c.corr, c.cam, {}, &f.motion);
@@ -401,6 +401,7 @@ Fused fuse(const Case& c, const Segmentation* seg) {
   ev.motion = &f.motion;
   ev.delaunay = &f.delaunay;
   ev.segmentation = seg;
+  ev.feature_labels = feature_labels;
   f.mask = fuseDynamicMask(ev, cv::Size(640, 480));
   return f;
 }
@@ -454,6 +455,35 @@ TEST(DynamicMask, StillPersonIsKept) {
   EXPECT_EQ(cv::countNonZero(f.mask.mask), 640 * 480 - f.mask.stats.dynamic_pixels);
   EXPECT_LT(f.mask.stats.dynamic_pixels, 0.01 * 640 * 480);
   EXPECT_LT(f.mask.stats.features_dynamic, 0.05 * c.corr.size());
+}
+
+// A walker whose keypoints found no match (it moved too far since the frame compared with)
+// under a carried outline that also covers some background: judged by the features of the
+// outline's interior, the background's still features do not make it still.
+TEST(DynamicMask, ACarriedOutlineIsJudgedByTheFeaturesOfItsInterior) {
+  CaseOptions o;
+  o.noise = true;
+  const Case c = makeCase(o);
+  Case unmatched = c;
+  unmatched.corr.clear();
+  unmatched.moving.clear();
+  for (size_t i = 0; i < c.corr.size(); ++i)
+    if (!c.moving[i]) {
+      unmatched.corr.push_back(c.corr[i]);
+      unmatched.moving.push_back(0);
+    }
+  const cv::Rect outline = grown(c.object_box_cur, 40);  // carried, off by up to 40 px
+  const Segmentation seg = boxSegmentation(outline, "person", 0, true);
+  const Fused whole = fuse(unmatched, &seg);
+  ASSERT_GE(whole.mask.instances.at(0).checked, DynamicMaskOptions{}.min_checked_features);
+  EXPECT_EQ(whole.mask.instances.at(0).reason, InstanceDecisionReason::kStillByGeometry) << "the failure avoided below";
+  cv::Mat interior(480, 640, CV_16UC1, cv::Scalar(0));
+  interior(c.object_box_cur).setTo(1);
+  const Fused inner = fuse(unmatched, &seg, &interior);
+  const InstanceDecision& d = inner.mask.instances.at(0);
+  EXPECT_TRUE(d.dynamic);
+  EXPECT_EQ(d.reason, InstanceDecisionReason::kClassPrior) << instanceDecisionReasonName(d.reason);
+  EXPECT_EQ(cv::countNonZero(inner.mask.mask(outline)), 0) << "the whole outline is masked, not only its interior";
 }
 
 TEST(DynamicMask, InstanceWithTooFewFeaturesFollowsItsClassPrior) {

@@ -14,6 +14,7 @@ namespace {
 
 int runEval(int argc, char** argv) {
   if (argc > 0 && std::string(argv[0]) == "loops") return runEvalLoops(argc - 1, argv + 1);
+  if (argc > 0 && std::string(argv[0]) == "masks") return runEvalMasks(argc - 1, argv + 1);
   Args args("eval", "Absolute trajectory error (ATE) and relative pose error (RPE) of an estimate against ground truth.");
   args.option("gt", "ground-truth trajectory, TUM format", "", true)
       .option("est", "estimated trajectory, TUM format", "", true)
@@ -54,7 +55,7 @@ int runEval(int argc, char** argv) {
 }  // namespace
 
 Command makeEvalCommand() {
-  return {"eval", "ATE/RPE of a trajectory against ground truth (TUM format); eval loops: loop detection P-R", runEval};
+  return {"eval", "ATE/RPE of a trajectory against ground truth (TUM format); eval loops: loop detection P-R; eval masks: late masks P-R", runEval};
 }
 
 }  // namespace plslam::cli

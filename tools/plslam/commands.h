@@ -21,5 +21,7 @@ Command makeCalibCommand();
 Command makeExportCommand();
 /// plslam eval loops (cmd_eval_loops.cpp): argv after "loops".
 int runEvalLoops(int argc, char** argv);
+/// plslam eval masks (cmd_eval_masks.cpp): argv after "masks".
+int runEvalMasks(int argc, char** argv);
 
 }  // namespace plslam::cli
