@@ -40,14 +40,18 @@ struct StageTimes {
   }
 };
 
+/// Milliseconds of wall time since `t0`.
+inline double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
 /// Adds the wall time from construction to destruction to (*times)[stage]; does nothing
 /// when `times` is null.
 class StageTimer {
  public:
   StageTimer(StageTimes* times, Stage stage) : times_(times), stage_(stage), t0_(std::chrono::steady_clock::now()) {}
   ~StageTimer() {
-    if (times_)
-      (*times_)[stage_] += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0_).count();
+    if (times_) (*times_)[stage_] += msSince(t0_);
   }
   StageTimer(const StageTimer&) = delete;
   StageTimer& operator=(const StageTimer&) = delete;

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <map>
 
+#include "core/profile.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "dynamic/yolo_segmenter.h"
@@ -12,9 +13,6 @@ namespace {
 
 const Logger kLog("dynamic");
 
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 
 void checkImage(const cv::Mat& bgr, TimeNs t_ns, const char* who) {
   if (bgr.empty()) throw DataError(str(who, " segmenter: empty image at t_ns ", t_ns));

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "core/profile.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "features/matching.h"
@@ -12,9 +13,6 @@ namespace plslam {
 namespace {
 const Logger kLog("dynamic");
 
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 
 bool dynamicAt(const cv::Mat& mask, const Eigen::Vector2d& uv) {
   const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));

@@ -63,12 +63,7 @@ TrackingResult Tracker::trackInitialised(TimeNs t_ns, const FrameFeatures& f) {
   if (r.reason.empty()) {
     if (!lost_) {
       T_w_c = have_velocity_ ? T_w_last_ * velocity_ : T_w_last_;
-      LocalMap local;
-      {
-        const StageTimer timer(&times_, Stage::kSearch);
-        std::lock_guard<std::mutex> lock(map_->mutex());
-        local = collectLocalMap();
-      }
+      const LocalMap local = takeLocalMap();
       searchLocalMap(local, T_w_c, f, options_.wide_radius_px, &m, false);
       PoseOnlyResult pr = optimise(T_w_c, f, &m);
       if (pr.converged) {
@@ -223,14 +218,14 @@ Tracker::LocalMap Tracker::collectLocalMap() {
   return local;
 }
 
+Tracker::LocalMap Tracker::takeLocalMap() {
+  const StageTimer timer(&times_, Stage::kSearch);
+  std::lock_guard<std::mutex> lock(map_->mutex());
+  return collectLocalMap();
+}
+
 void Tracker::searchLocalMap(const SE3& T_w_c, const FrameFeatures& f, double radius, Matches* m, bool count_visible) {
-  LocalMap local;
-  {
-    const StageTimer timer(&times_, Stage::kSearch);
-    std::lock_guard<std::mutex> lock(map_->mutex());
-    local = collectLocalMap();
-  }
-  searchLocalMap(local, T_w_c, f, radius, m, count_visible);
+  searchLocalMap(takeLocalMap(), T_w_c, f, radius, m, count_visible);
 }
 
 void Tracker::searchLocalMap(const LocalMap& local, const SE3& T_w_c, const FrameFeatures& f, double radius, Matches* m,

@@ -133,6 +133,8 @@ class Tracker {
     std::vector<Id> point_ids, line_ids;
   };
   LocalMap collectLocalMap();
+  /// collectLocalMap under the map lock, timed as search.
+  LocalMap takeLocalMap();
   /// Projection search of `local` (taken once per frame: both passes search the same map).
   void searchLocalMap(const LocalMap& local, const SE3& T_w_c, const FrameFeatures& f, double radius, Matches* m,
                       bool count_visible);

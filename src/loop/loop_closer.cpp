@@ -7,6 +7,7 @@
 #include <set>
 #include <tuple>
 
+#include "core/profile.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "loop/map_correction.h"
@@ -384,9 +385,6 @@ std::optional<LoopCorrection> LoopCloser::verifyAndClose(const LoopQuery& query,
 
 namespace {
 
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 
 }  // namespace
 

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <thread>
 
+#include "core/profile.h"
 #include "core/bounded_queue.h"
 #include "core/error.h"
 #include "core/log.h"
@@ -15,9 +16,6 @@ namespace plslam {
 namespace {
 const Logger kLog("system");
 
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 }  // namespace
 
 struct System::Pipeline {

@@ -23,10 +23,9 @@ PinholeCamera freiburg1() {
   c.dist = {0.2624, -0.9531, -0.0054, 0.0026, 1.1633};
   return c;
 }
-}  // namespace
 
-TEST(PinholeCamera, ProjectUnprojectRoundTripWithDistortion) {
-  const PinholeCamera cam = freiburg1();
+// Every pixel of a grid unprojected at 2.5 m and projected again lands where it started.
+void expectProjectUnprojectRoundTrip(const PinholeCamera& cam) {
   for (double u = 20; u < 640; u += 77)
     for (double v = 15; v < 480; v += 61) {
       const Eigen::Vector3d p = cam.unproject({u, v}, 2.5);
@@ -35,6 +34,11 @@ TEST(PinholeCamera, ProjectUnprojectRoundTripWithDistortion) {
       EXPECT_NEAR(uv.x(), u, 1e-6);
       EXPECT_NEAR(uv.y(), v, 1e-6);
     }
+}
+}  // namespace
+
+TEST(PinholeCamera, ProjectUnprojectRoundTripWithDistortion) {
+  expectProjectUnprojectRoundTrip(freiburg1());
 }
 
 TEST(PinholeCamera, DistortionMovesCornersButNotCentre) {
@@ -87,13 +91,10 @@ TEST(PinholeCamera, NegativeFocalLengthsAreValidAndRoundTrip) {
   for (const PinholeCamera& cam : {icl, mirrored(freiburg1(), true, false), both}) {
     SCOPED_TRACE(testing::Message() << "fx " << cam.fx << " fy " << cam.fy);
     EXPECT_NO_THROW(cam.validate("negative.xml"));
+    expectProjectUnprojectRoundTrip(cam);
     for (double u = 20; u < 640; u += 77)
       for (double v = 15; v < 480; v += 61) {
         const Eigen::Vector3d p = cam.unproject({u, v}, 2.5);
-        EXPECT_NEAR(p.z(), 2.5, 1e-12);
-        const Eigen::Vector2d uv = cam.project(p);
-        EXPECT_NEAR(uv.x(), u, 1e-6);
-        EXPECT_NEAR(uv.y(), v, 1e-6);
         const Eigen::Vector2d ideal = cam.undistort({u, v});
         EXPECT_LT((cam.distort(ideal) - Eigen::Vector2d(u, v)).norm(), 1e-6);
         EXPECT_LT((cam.unprojectIdeal(ideal, 2.5) - p).norm(), 1e-9);
