@@ -1,0 +1,137 @@
+// Tracking that does not give up: the fallbacks before "lost" (reference keyframe through
+// the vocabulary, then a wider window) and relocalisation by place recognition over the
+// whole map, on synthetic scenes with exact ground truth. Frames are dropped or replayed
+// out of place to make the motion model wrong by a known amount.
+#include <gtest/gtest.h>
+
+#include <thread>
+
+#include "synth/renderer.h"
+#include "synth/scene.h"
+#include "system/system.h"
+
+using namespace plslam;
+
+namespace {
+
+struct Sequence {
+  synth::Scene scene;
+  std::vector<synth::RenderedFrame> frames;
+};
+
+Sequence render(synth::SceneKind kind, int frames, int width, int height) {
+  synth::SceneOptions o;
+  o.width = width;
+  o.height = height;
+  o.frames = frames;
+  Sequence s{synth::makeScene(kind, o), {}};
+  s.frames.resize(frames);
+  std::vector<std::thread> workers;
+  for (int t = 0; t < 2; ++t)
+    workers.emplace_back([&s, t, frames] {
+      for (int i = t; i < frames; i += 2) s.frames[i] = synth::render(s.scene, i);
+    });
+  for (auto& w : workers) w.join();
+  return s;
+}
+
+SystemOptions sequentialNoLoop() {
+  SystemOptions o;
+  o.sequential = true;
+  o.use_loop = false;  // keeps relocalisation the only way back
+  o.dense.enabled = false;
+  return o;
+}
+
+SystemOptions withoutFallbacks() {
+  SystemOptions o = sequentialNoLoop();
+  o.tracker.reference_fallback = false;
+  o.tracker.wide_fallback_factor = 1.0;
+  return o;
+}
+
+struct Fed {
+  std::vector<TrackingResult> results;
+  std::vector<int> scene_index;  ///< the scene frame each result is of
+  RunStats stats;
+};
+
+constexpr int kBlank = -1;  ///< in a feeding order: a featureless grey frame (a covered lens)
+
+/// Feeds scene frames `order` (stamps renumbered 30 Hz so they stay in time order).
+Fed feed(const Sequence& seq, const std::vector<int>& order, const SystemOptions& options) {
+  System slam(seq.scene.camera(), options);
+  slam.start();
+  Fed out;
+  for (size_t k = 0; k < order.size(); ++k) {
+    RgbdFrame f = seq.frames[order[k] == kBlank ? 0 : order[k]].toRgbdFrame();
+    if (order[k] == kBlank) f.bgr = cv::Mat(f.bgr.size(), CV_8UC3, cv::Scalar(128, 128, 128));
+    f.t_ns = static_cast<TimeNs>(k) * 33'333'333;
+    out.results.push_back(slam.feed(f));
+    out.scene_index.push_back(order[k]);
+  }
+  slam.finish();
+  out.stats = slam.stats();
+  return out;
+}
+
+/// Position error of result k relative to result `from` (both tracked) against the truth.
+double relativeError(const Sequence& seq, const Fed& fed, size_t from, size_t k) {
+  const SE3 truth = seq.scene.cameraPose(fed.scene_index[from]).inverse() * seq.scene.cameraPose(fed.scene_index[k]);
+  const SE3 estimate = fed.results[from].T_w_c.inverse() * fed.results[k].T_w_c;
+  return (estimate.translation() - truth.translation()).norm();
+}
+
+std::vector<int> range(int from, int to) {
+  std::vector<int> v;
+  for (int i = from; i < to; ++i) v.push_back(i);
+  return v;
+}
+
+}  // namespace
+
+TEST(RobustTracking, AJumpThatBreaksTheMotionModelIsTrackedByAFallback) {
+  const Sequence seq = render(synth::SceneKind::kStatic, 120, 640, 480);
+  // Frames 50..69 are dropped: the motion model predicts a 1-frame step where 21 happened.
+  std::vector<int> order = range(0, 50);
+  for (int i : range(70, 120)) order.push_back(i);
+  const Fed plain = feed(seq, order, withoutFallbacks());
+  ASSERT_GE(plain.stats.lost_events, 1) << "the gap must defeat the motion model, or this test proves nothing";
+
+  const Fed fed = feed(seq, order, sequentialNoLoop());
+  EXPECT_EQ(fed.stats.lost_events, 0);
+  EXPECT_EQ(fed.stats.tracked, static_cast<int>(order.size()));
+  const TrackingResult& after_gap = fed.results[50];
+  EXPECT_TRUE(after_gap.method == TrackingMethod::kReferenceKeyframe || after_gap.method == TrackingMethod::kWideWindow)
+      << toString(after_gap.method);
+  EXPECT_LT(relativeError(seq, fed, 49, 50), 0.01) << "the motion across the gap";
+  EXPECT_LT(relativeError(seq, fed, 49, order.size() - 1), 0.02);
+}
+
+TEST(RobustTracking, ALostCameraIsRelocalisedByPlaceRecognitionFarFromTheRecentKeyframes) {
+  // Round the room, then blank frames (lost), then back at the start of the lap: the
+  // place is many keyframes old, out of reach of the recent keyframes.
+  const Sequence seq = render(synth::SceneKind::kLoop, 300, 320, 240);
+  std::vector<int> order = range(0, 160);
+  const size_t first_blank = order.size();
+  const int blanks = 3;
+  for (int b = 0; b < blanks; ++b) order.push_back(kBlank);
+  const size_t back = order.size();
+  for (int i : range(5, 40)) order.push_back(i);
+
+  SystemOptions no_vocabulary = sequentialNoLoop();
+  no_vocabulary.loop.vocabulary = "/nonexistent/vocabulary.voc";
+  const Fed recent_only = feed(seq, order, no_vocabulary);
+  EXPECT_FALSE(isTracked(recent_only.results[back].status)) << "recent keyframes alone should not find the old place";
+
+  const Fed fed = feed(seq, order, sequentialNoLoop());
+  for (size_t k = first_blank; k < back; ++k) EXPECT_FALSE(isTracked(fed.results[k].status));
+  ASSERT_EQ(fed.results[back].status, TrackingStatus::kRelocalized) << fed.results[back].reason;
+  EXPECT_EQ(fed.results[back].method, TrackingMethod::kRelocalisation);
+  EXPECT_LT(relativeError(seq, fed, 5, back), 0.03) << "the relocalised pose against the same view tracked before";
+  for (size_t k = back; k < order.size(); ++k) EXPECT_TRUE(isTracked(fed.results[k].status)) << "frame " << k;
+  ASSERT_EQ(fed.stats.recovery_frames.size(), 1u);
+  EXPECT_EQ(fed.stats.recovery_frames[0], blanks);
+  EXPECT_NEAR(fed.stats.recovery_s[0], blanks / 30.0, 0.01);
+  EXPECT_EQ(fed.stats.methods[static_cast<int>(TrackingMethod::kRelocalisation)], 1);
+}
