@@ -6,6 +6,7 @@
 #include <set>
 #include <unordered_set>
 
+#include "core/error.h"
 #include "core/log.h"
 #include "features/matching.h"
 #include "frontend/frame_refinement.h"
@@ -40,12 +41,31 @@ const char* toString(TrackingMethod m) {
   return "unknown";
 }
 
+void TrackerOptions::validate() const {
+  auto require = [](bool ok, const char* key, const std::string& range, double value) {
+    if (!ok) throw ConfigError(str("tracker.", key, " must be ", range, " (got ", value, ")"));
+  };
+  require(min_inliers >= 1, "min_inliers", ">= 1", min_inliers);
+  require(wide_radius_px > 0 && narrow_radius_px > 0, "wide_radius_px and narrow_radius_px", "> 0",
+          std::min(wide_radius_px, narrow_radius_px));
+  require(wide_fallback_factor >= 0, "wide_fallback_factor", ">= 0 (<= 1 turns it off)", wide_fallback_factor);
+  require(min_pnp_points >= 4, "min_pnp_points", ">= 4 (PnP needs four points)", min_pnp_points);
+  require(pnp_iterations >= 1, "pnp_iterations", ">= 1", pnp_iterations);
+  require(pnp_error_px > 0, "pnp_error_px", "> 0", pnp_error_px);
+  require(relocalisation.max_candidates >= 1, "relocalisation_candidates", ">= 1", relocalisation.max_candidates);
+  require(relocalisation.min_relative_score >= 0 && relocalisation.min_relative_score <= 1,
+          "relocalisation_min_relative_score", "in [0, 1]", relocalisation.min_relative_score);
+  require(relocalisation_recent_keyframes >= 1, "relocalisation_recent_keyframes", ">= 1", relocalisation_recent_keyframes);
+  require(near_plane_m > 0, "near_plane_m", "> 0", near_plane_m);
+}
+
 Tracker::Tracker(Map* map, PinholeCamera camera, TrackerOptions options, std::shared_ptr<const VocabularySet> vocabulary)
     : map_(map),
       camera_(std::move(camera)),
       options_(options),
       optimizer_(options.optimizer),
       places_(std::move(vocabulary)) {
+  options_.validate();
   std::lock_guard<std::mutex> lock(map_->mutex());
   if (!map_->keyframes().empty()) {
     // A loaded map: start lost, so the first frame is placed by relocalisation in it.
@@ -319,7 +339,7 @@ TrackingResult Tracker::initialise(TimeNs t_ns, const FrameFeatures& f) {
 
 const std::vector<std::pair<Id, int>>& Tracker::referenceCovisible() {
   if (covisible_of_ != reference_kf_) {
-    covisible_ = map_->covisible(reference_kf_, 15);
+    covisible_ = map_->covisible(reference_kf_, options_.covisible_min_shared);
     covisible_of_ = reference_kf_;
   }
   return covisible_;
@@ -407,7 +427,7 @@ void Tracker::searchLocalMap(const LocalMap& local, const SE3& T_w_c, const Fram
     MapPoint* p = map_->point(id);
     if (!p) continue;  // culled by the mapper since the local map was taken
     const Eigen::Vector3d p_c = T_c_w * p->p_w;
-    if (p_c.z() < 0.1) continue;
+    if (p_c.z() < options_.near_plane_m) continue;
     const Eigen::Vector2d uv = camera_.projectIdeal(p_c);
     if (!camera_.inImage(uv)) continue;
     if (record_visible) m->visible_points.push_back(id);
@@ -448,10 +468,11 @@ void Tracker::searchLocalMap(const LocalMap& local, const SE3& T_w_c, const Fram
     MapLine* l = map_->line(id);
     if (!l) continue;
     Eigen::Vector3d P = T_c_w * l->P_w, Q = T_c_w * l->Q_w;
-    if (P.z() < 0.1 && Q.z() < 0.1) continue;
+    const double near = options_.near_plane_m;
+    if (P.z() < near && Q.z() < near) continue;
     // Clip the part behind the camera so the projection stays meaningful.
-    if (P.z() < 0.1) P = Q + (P - Q) * ((Q.z() - 0.1) / (Q.z() - P.z()));
-    if (Q.z() < 0.1) Q = P + (Q - P) * ((P.z() - 0.1) / (P.z() - Q.z()));
+    if (P.z() < near) P = Q + (P - Q) * ((Q.z() - near) / (Q.z() - P.z()));
+    if (Q.z() < near) Q = P + (Q - P) * ((P.z() - near) / (P.z() - Q.z()));
     const Eigen::Vector2d p = camera_.projectIdeal(P), q = camera_.projectIdeal(Q);
     if (!camera_.inImage(p) && !camera_.inImage(q) && !camera_.inImage(0.5 * (p + q))) continue;
     if (record_visible) m->visible_lines.push_back(id);

@@ -72,6 +72,8 @@ struct TrackerOptions {
   double line_angle_deg = 8.0;       ///< max angle between a projected map line and a segment
   double line_distance_px = 8.0;     ///< max distance of a segment's endpoints to the projected line
   int local_keyframes = 12;          ///< keyframes whose landmarks form the local map
+  int covisible_min_shared = 15;     ///< keyframes sharing this many points with the reference are its covisible ones
+  double near_plane_m = 0.1;         ///< landmarks closer to the camera than this are not projected
   int keyframe_max_frames = 20;      ///< a keyframe at least this often (frames)
   int keyframe_min_frames = 2;       ///< and never more often than this
   double keyframe_inlier_ratio = 0.75;  ///< new keyframe when inliers < ratio * reference keyframe's landmarks
@@ -92,6 +94,9 @@ struct TrackerOptions {
   /// visible/found counts; relocalisation searches every keyframe.
   bool localization_only = false;
   PoseOptimizerOptions optimizer = trackingPoseOptions();  ///< pose-only optimisation
+
+  /// Throws ConfigError naming the first option out of its range (the tracker checks on construction).
+  void validate() const;
 
   /// Depth trusted like ORB-SLAM's virtual stereo pixel (sigma_z ~ z^2 / 40): a tighter
   /// sigma lets depth noise at corners and the colour/depth time offset drag the pose
@@ -191,7 +196,7 @@ class Tracker {
   /// The current frame's words, computed once per frame.
   const FrameWords& frameWords(const FrameFeatures& f);
   std::vector<Id> localKeyframes();
-  /// The reference keyframe's covisible keyframes (>= 15 shared points), computed once per
+  /// The reference keyframe's covisible keyframes (covisible_min_shared), computed once per
   /// reference: the count runs over every observation of its points, which grows with every
   /// revisit of the place, while what changes it between keyframes (culling, BA outliers) is
   /// rare. Caller holds the map lock.

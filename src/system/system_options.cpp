@@ -23,6 +23,9 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
   t->bind("tracker.line_angle_deg", &tr.line_angle_deg, "max angle between a projected map line and a segment (deg)");
   t->bind("tracker.line_distance_px", &tr.line_distance_px, "max distance of segment endpoints to a projected line (px)");
   t->bind("tracker.local_keyframes", &tr.local_keyframes, "keyframes whose landmarks form the local map");
+  t->bind("tracker.covisible_min_shared", &tr.covisible_min_shared,
+          "keyframes sharing this many points with the reference keyframe join the local map");
+  t->bind("tracker.near_plane_m", &tr.near_plane_m, "landmarks nearer the camera than this are not projected (m)");
   t->bind("tracker.keyframe_max_frames", &tr.keyframe_max_frames, "a keyframe at least every this many frames");
   t->bind("tracker.keyframe_min_frames", &tr.keyframe_min_frames, "never a keyframe more often than this");
   t->bind("tracker.keyframe_inlier_ratio", &tr.keyframe_inlier_ratio, "keyframe when inliers < ratio * the reference keyframe's");

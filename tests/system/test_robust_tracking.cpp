@@ -6,6 +6,7 @@
 
 #include <thread>
 
+#include "core/error.h"
 #include "synth/renderer.h"
 #include "synth/scene.h"
 #include "system/system.h"
@@ -134,4 +135,24 @@ TEST(RobustTracking, ALostCameraIsRelocalisedByPlaceRecognitionFarFromTheRecentK
   EXPECT_EQ(fed.stats.recovery_frames[0], blanks);
   EXPECT_NEAR(fed.stats.recovery_s[0], blanks / 30.0, 0.01);
   EXPECT_EQ(fed.stats.methods[static_cast<int>(TrackingMethod::kRelocalisation)], 1);
+}
+
+TEST(RobustTracking, FallbackAndRelocalisationOptionsOutOfRangeAreRefusedByName) {
+  const PinholeCamera camera = synth::syntheticCamera(320, 240);
+  auto refused = [&](auto change, const std::string& key) {
+    SystemOptions o = sequentialNoLoop();
+    change(&o.tracker);
+    try {
+      System slam(camera, o);
+      ADD_FAILURE() << key << " accepted";
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  };
+  refused([](TrackerOptions* t) { t->min_pnp_points = 3; }, "tracker.min_pnp_points");
+  refused([](TrackerOptions* t) { t->relocalisation.max_candidates = 0; }, "tracker.relocalisation_candidates");
+  refused([](TrackerOptions* t) { t->relocalisation.min_relative_score = 1.5; }, "tracker.relocalisation_min_relative_score");
+  refused([](TrackerOptions* t) { t->wide_fallback_factor = -1; }, "tracker.wide_fallback_factor");
+  refused([](TrackerOptions* t) { t->near_plane_m = 0; }, "tracker.near_plane_m");
+  EXPECT_NO_THROW(System(camera, sequentialNoLoop()));
 }
