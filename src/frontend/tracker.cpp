@@ -566,6 +566,9 @@ std::vector<Id> Tracker::relocalisationCandidates(const FrameFeatures& f) {
 
 bool Tracker::needKeyframe(const SE3& T_w_c, int inliers) const {
   if (frames_since_kf_ < options_.keyframe_min_frames) return false;
+  // A weakly supported pose (a blurred frame held by a few matches) would seed the map with
+  // landmarks placed by that pose: wait for a frame that is tracked firmly.
+  if (inliers < options_.keyframe_min_support) return false;
   if (frames_since_kf_ >= options_.keyframe_max_frames) return true;
   if (inliers < options_.keyframe_min_inliers) return true;
   if (inliers < options_.keyframe_inlier_ratio * reference_kf_landmarks_) return true;

@@ -78,6 +78,7 @@ struct TrackerOptions {
   int keyframe_min_frames = 2;       ///< and never more often than this
   double keyframe_inlier_ratio = 0.75;  ///< new keyframe when inliers < ratio * reference keyframe's landmarks
   int keyframe_min_inliers = 120;    ///< or when fewer inliers than this remain
+  int keyframe_min_support = 50;     ///< but never from a frame with fewer inliers than this (its pose is weak)
   double keyframe_max_translation_m = 0.15;  ///< or when the camera moved this far from the reference keyframe
   double keyframe_max_rotation_deg = 12.0;   ///< or turned this much
   bool use_lines = true;             ///< use line features

@@ -30,6 +30,8 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
   t->bind("tracker.keyframe_min_frames", &tr.keyframe_min_frames, "never a keyframe more often than this");
   t->bind("tracker.keyframe_inlier_ratio", &tr.keyframe_inlier_ratio, "keyframe when inliers < ratio * the reference keyframe's");
   t->bind("tracker.keyframe_min_inliers", &tr.keyframe_min_inliers, "keyframe when fewer inliers than this");
+  t->bind("tracker.keyframe_min_support", &tr.keyframe_min_support,
+          "never a keyframe from a frame with fewer inliers than this (a weak pose would seed the map)");
   t->bind("tracker.keyframe_max_translation_m", &tr.keyframe_max_translation_m, "keyframe after moving this far (m)");
   t->bind("tracker.keyframe_max_rotation_deg", &tr.keyframe_max_rotation_deg, "keyframe after turning this much (deg)");
   t->bind("tracker.reference_fallback", &tr.reference_fallback,

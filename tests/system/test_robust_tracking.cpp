@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "core/error.h"
+#include "eval/trajectory_eval.h"
 #include "synth/renderer.h"
 #include "synth/scene.h"
 #include "system/system.h"
@@ -155,4 +156,65 @@ TEST(RobustTracking, FallbackAndRelocalisationOptionsOutOfRangeAreRefusedByName)
   refused([](TrackerOptions* t) { t->wide_fallback_factor = -1; }, "tracker.wide_fallback_factor");
   refused([](TrackerOptions* t) { t->near_plane_m = 0; }, "tracker.near_plane_m");
   EXPECT_NO_THROW(System(camera, sequentialNoLoop()));
+}
+
+namespace {
+
+/// The fast scene (bursts up to `max_rotation_deg_s`, motion blur, exposure steps), fed in order.
+Fed runFastScene(double max_rotation_deg_s, int frames, double* ate) {
+  synth::SceneOptions o;
+  o.width = 320;
+  o.height = 240;
+  o.frames = frames;
+  o.fast.max_rotation_deg_s = max_rotation_deg_s;
+  Sequence seq{synth::makeScene(synth::SceneKind::kFast, o), {}};
+  seq.frames.resize(frames);
+  std::vector<std::thread> workers;
+  for (int t = 0; t < 2; ++t)
+    workers.emplace_back([&seq, t, frames] {
+      for (int i = t; i < frames; i += 2) seq.frames[i] = synth::render(seq.scene, i);
+    });
+  for (auto& w : workers) w.join();
+  const Fed fed = feed(seq, range(0, frames), sequentialNoLoop());
+  Trajectory truth, estimate;
+  for (size_t k = 0; k < fed.results.size(); ++k)
+    if (isTracked(fed.results[k].status)) {
+      truth.push_back({seq.scene.frameTime(fed.scene_index[k]), seq.scene.cameraPose(fed.scene_index[k])});
+      estimate.push_back({truth.back().t_ns, fed.results[k].T_w_c});
+    }
+  *ate = evaluate(truth, estimate).ate.stats.rmse;
+  return fed;
+}
+
+/// The longest run of untracked frames after the first second.
+int longestLossAfterFirstSecond(const Fed& fed) {
+  int longest = 0, current = 0;
+  for (size_t k = 30; k < fed.results.size(); ++k) {
+    current = isTracked(fed.results[k].status) ? 0 : current + 1;
+    longest = std::max(longest, current);
+  }
+  return longest;
+}
+
+}  // namespace
+
+TEST(RobustTracking, FastMotionWithBlurAndExposureStepsIsTrackedEveryFrameAfterTheFirstSecond) {
+  double ate = 0;
+  const Fed fed = runFastScene(180, 200, &ate);
+  std::printf("fast scene 180 deg/s: %d of %d tracked, lost events %d, per-frame ATE %.4f m\n", fed.stats.tracked,
+              fed.stats.frames, fed.stats.lost_events, ate);
+  EXPECT_EQ(longestLossAfterFirstSecond(fed), 0);
+  EXPECT_EQ(fed.stats.lost_events, 0);
+  EXPECT_LT(ate, 0.03);
+}
+
+TEST(RobustTracking, AtTwoAndAHalfTimesTheRatedSpeedEveryLossIsRecoveredWithinFiveFrames) {
+  double ate = 0;
+  const Fed fed = runFastScene(450, 200, &ate);
+  std::printf("fast scene 450 deg/s: %d of %d tracked, lost events %d, relocalisations %d, per-frame ATE %.4f m\n",
+              fed.stats.tracked, fed.stats.frames, fed.stats.lost_events, fed.stats.relocalisations, ate);
+  ASSERT_GE(fed.stats.lost_events, 1) << "no loss to recover from: this test would prove nothing";
+  EXPECT_LE(longestLossAfterFirstSecond(fed), 5);
+  EXPECT_EQ(fed.stats.relocalisations, fed.stats.lost_events);
+  EXPECT_TRUE(isTracked(fed.results.back().status));
 }
