@@ -57,6 +57,7 @@ void TrackerOptions::validate() const {
           "relocalisation_min_relative_score", "in [0, 1]", relocalisation.min_relative_score);
   require(relocalisation_recent_keyframes >= 1, "relocalisation_recent_keyframes", ">= 1", relocalisation_recent_keyframes);
   require(near_plane_m > 0, "near_plane_m", "> 0", near_plane_m);
+  require(max_speed_m_s > 0, "max_speed_m_s", "> 0", max_speed_m_s);
 }
 
 Tracker::Tracker(Map* map, PinholeCamera camera, TrackerOptions options, std::shared_ptr<const VocabularySet> vocabulary)
@@ -99,7 +100,7 @@ TrackingResult Tracker::trackInitialised(TimeNs t_ns, const FrameFeatures& f) {
   Attempt a;
   if (r.reason.empty()) {
     if (!lost_) {
-      a = trackFromLastPose(f, &m, &r);
+      a = trackFromLastPose(nsToSeconds(t_ns - t_last_ns_), f, &m, &r);
     } else {
       a = relocalise(f, &m);
       if (a.ok) r.method = TrackingMethod::kRelocalisation;
@@ -143,6 +144,7 @@ TrackingResult Tracker::trackInitialised(TimeNs t_ns, const FrameFeatures& f) {
   velocity_ = T_w_last_.inverse() * T_w_c;
   have_velocity_ = !relocalised;  // the last pose before the loss says nothing of the motion now
   T_w_last_ = T_w_c;
+  t_last_ns_ = t_ns;
   ++frames_since_kf_;
   const StageTimer keyframe_timer(&times_, Stage::kKeyframe);
   if (!options_.localization_only && needKeyframe(T_w_c, r.inliers)) {
@@ -153,10 +155,18 @@ TrackingResult Tracker::trackInitialised(TimeNs t_ns, const FrameFeatures& f) {
   return r;
 }
 
-Tracker::Attempt Tracker::trackFromLastPose(const FrameFeatures& f, Matches* m, TrackingResult* r) {
+Tracker::Attempt Tracker::trackFromLastPose(double dt_s, const FrameFeatures& f, Matches* m, TrackingResult* r) {
   const SE3 predicted = have_velocity_ ? T_w_last_ * velocity_ : T_w_last_;
   const LocalMap local = takeLocalMap();
-  Attempt a = trackWithPrediction(local, predicted, options_.wide_radius_px, f, m);
+  // Each way in turn; a pose that would need an impossible speed is a wrong one (a few
+  // matches on a blurred frame can agree on it) and counts as a failure.
+  auto plausible = [&](Attempt a) {
+    const double jump_m = (T_w_last_.inverse() * a.T_w_c).translation().norm();
+    if (a.ok && dt_s > 0 && jump_m > options_.max_speed_m_s * dt_s)
+      a = {false, a.T_w_c, a.inliers, str("a jump of ", jump_m, " m in ", dt_s, " s")};
+    return a;
+  };
+  Attempt a = plausible(trackWithPrediction(local, predicted, options_.wide_radius_px, f, m));
   r->inliers = a.inliers;
   if (a.ok) {
     r->method = TrackingMethod::kMotionModel;
@@ -165,12 +175,12 @@ Tracker::Attempt Tracker::trackFromLastPose(const FrameFeatures& f, Matches* m, 
   const std::string motion_failure = a.reason;
   std::string why = "motion model: " + motion_failure;
   if (options_.reference_fallback) {
-    a = trackReferenceKeyframe(local, predicted, f, m);
+    a = plausible(trackReferenceKeyframe(local, predicted, f, m));
     if (a.ok) r->method = TrackingMethod::kReferenceKeyframe;
     else why += "; reference keyframe: " + a.reason;
   }
   if (!a.ok && options_.wide_fallback_factor > 1) {
-    a = trackWithPrediction(local, predicted, options_.wide_radius_px * options_.wide_fallback_factor, f, m);
+    a = plausible(trackWithPrediction(local, predicted, options_.wide_radius_px * options_.wide_fallback_factor, f, m));
     if (a.ok) r->method = TrackingMethod::kWideWindow;
     else why += "; wide window: " + a.reason;
   }
@@ -333,6 +343,7 @@ TrackingResult Tracker::initialise(TimeNs t_ns, const FrameFeatures& f) {
   r.inliers = with_depth;
   have_last_ = true;
   T_w_last_ = T_w_c;
+  t_last_ns_ = t_ns;
   kLog.info(str("initialised at t=", formatSecondsStamp(t_ns), " with ", with_depth, " points"));
   return r;
 }

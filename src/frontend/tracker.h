@@ -78,10 +78,13 @@ struct TrackerOptions {
   int keyframe_min_frames = 2;       ///< and never more often than this
   double keyframe_inlier_ratio = 0.75;  ///< new keyframe when inliers < ratio * reference keyframe's landmarks
   int keyframe_min_inliers = 120;    ///< or when fewer inliers than this remain
-  int keyframe_min_support = 50;     ///< but never from a frame with fewer inliers than this (its pose is weak)
+  int keyframe_min_support = 40;     ///< but never from a frame with fewer inliers than this (its pose is weak)
   double keyframe_max_translation_m = 0.15;  ///< or when the camera moved this far from the reference keyframe
   double keyframe_max_rotation_deg = 12.0;   ///< or turned this much
   bool use_lines = true;             ///< use line features
+  /// A pose that moved the camera faster than this since the last tracked frame is refused
+  /// (hand-held cameras stay under about 2 m/s, a TurtleBot3 under 0.26 m/s).
+  double max_speed_m_s = 4.0;
   bool reference_fallback = true;    ///< when the motion model fails: match the reference keyframe through the vocabulary
   double wide_fallback_factor = 3.0; ///< then search the prediction in a window this many times wider (<= 1: no)
   int min_vocabulary_matches = 15;   ///< point + line matches a keyframe needs for a fallback or relocalisation attempt
@@ -177,8 +180,9 @@ class Tracker {
   TrackingResult initialise(TimeNs t_ns, const FrameFeatures& f);
   /// track() once the map exists: motion model or relocalisation, then the keyframe decision.
   TrackingResult trackInitialised(TimeNs t_ns, const FrameFeatures& f);
-  /// The motion model, then the fallbacks; sets r->method, r->inliers and r->reason.
-  Attempt trackFromLastPose(const FrameFeatures& f, Matches* m, TrackingResult* r);
+  /// The motion model, then the fallbacks, `dt_s` after the last tracked frame; sets
+  /// r->method, r->inliers and r->reason.
+  Attempt trackFromLastPose(double dt_s, const FrameFeatures& f, Matches* m, TrackingResult* r);
   /// Projection search of `local` around `T_w_c` in `radius`, then refineWithLocalMap.
   Attempt trackWithPrediction(const LocalMap& local, const SE3& T_w_c, double radius, const FrameFeatures& f, Matches* m);
   /// Fallback 1: the reference keyframe's landmarks matched through the vocabulary.
@@ -228,6 +232,7 @@ class Tracker {
 
   bool have_last_ = false, have_velocity_ = false, lost_ = false;
   SE3 T_w_last_, velocity_;  // velocity_ = T_prev_last (last frame in the previous frame)
+  TimeNs t_last_ns_ = 0;  // stamp of the last tracked frame
   Id reference_kf_ = kNoId;
   int frames_since_kf_ = 0;
   int reference_kf_landmarks_ = 0;

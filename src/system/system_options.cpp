@@ -34,6 +34,8 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
           "never a keyframe from a frame with fewer inliers than this (a weak pose would seed the map)");
   t->bind("tracker.keyframe_max_translation_m", &tr.keyframe_max_translation_m, "keyframe after moving this far (m)");
   t->bind("tracker.keyframe_max_rotation_deg", &tr.keyframe_max_rotation_deg, "keyframe after turning this much (deg)");
+  t->bind("tracker.max_speed_m_s", &tr.max_speed_m_s,
+          "a pose that moved the camera faster than this since the last tracked frame is refused (m/s)");
   t->bind("tracker.reference_fallback", &tr.reference_fallback,
           "when the motion model fails, match the reference keyframe through the vocabulary before giving up");
   t->bind("tracker.wide_fallback_factor", &tr.wide_fallback_factor,
