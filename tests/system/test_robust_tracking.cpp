@@ -60,15 +60,22 @@ struct Fed {
 
 constexpr int kBlank = -1;  ///< in a feeding order: a featureless grey frame (a covered lens)
 
-/// Feeds scene frames `order` (stamps renumbered 30 Hz so they stay in time order).
-Fed feed(const Sequence& seq, const std::vector<int>& order, const SystemOptions& options) {
+/// Feeds scene frames `order`, in time order; `frame_period_stamps`: every frame one period
+/// after the last whatever the scene's stamps (a gap then looks like one frame's motion).
+Fed feed(const Sequence& seq, const std::vector<int>& order, const SystemOptions& options,
+         bool frame_period_stamps = false) {
   System slam(seq.scene.camera(), options);
   slam.start();
   Fed out;
+  TimeNs last_t = 0;
   for (size_t k = 0; k < order.size(); ++k) {
     RgbdFrame f = seq.frames[order[k] == kBlank ? 0 : order[k]].toRgbdFrame();
     if (order[k] == kBlank) f.bgr = cv::Mat(f.bgr.size(), CV_8UC3, cv::Scalar(128, 128, 128));
-    f.t_ns = static_cast<TimeNs>(k) * 33'333'333;
+    // The scene's stamps while they go forward (a dropped stretch keeps its real duration),
+    // one frame period after the last otherwise (a replayed earlier view).
+    const TimeNs next = k == 0 ? f.t_ns : last_t + 33'333'333;
+    f.t_ns = order[k] != kBlank && f.t_ns > last_t && !frame_period_stamps ? f.t_ns : next;
+    last_t = f.t_ns;
     out.results.push_back(slam.feed(f));
     out.scene_index.push_back(order[k]);
   }
@@ -108,6 +115,21 @@ TEST(RobustTracking, AJumpThatBreaksTheMotionModelIsTrackedByAFallback) {
       << toString(after_gap.method);
   EXPECT_LT(relativeError(seq, fed, 49, 50), 0.01) << "the motion across the gap";
   EXPECT_LT(relativeError(seq, fed, 49, order.size() - 1), 0.02);
+}
+
+TEST(RobustTracking, APoseThatWouldNeedAnImpossibleSpeedIsRefused) {
+  const Sequence seq = render(synth::SceneKind::kStatic, 120, 640, 480);
+  // The same 20-frame gap, but stamped as if one frame period had passed: the pose the
+  // fallback finds is right, yet the camera would have moved at several metres a second.
+  std::vector<int> order = range(0, 50);
+  for (int i : range(70, 120)) order.push_back(i);
+  const Fed gated = feed(seq, order, sequentialNoLoop(), true);
+  EXPECT_FALSE(isTracked(gated.results[50].status));
+  EXPECT_NE(gated.results[50].reason.find("a jump of"), std::string::npos) << gated.results[50].reason;
+  SystemOptions fast_camera = sequentialNoLoop();
+  fast_camera.tracker.max_speed_m_s = 100;
+  const Fed ungated = feed(seq, order, fast_camera, true);
+  EXPECT_TRUE(isTracked(ungated.results[50].status)) << ungated.results[50].reason;
 }
 
 TEST(RobustTracking, ALostCameraIsRelocalisedByPlaceRecognitionFarFromTheRecentKeyframes) {
