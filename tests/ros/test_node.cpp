@@ -1,0 +1,178 @@
+// The plslam_ros node end to end, on a private rosmaster (127.0.0.1, free port): the
+// synthetic static sequence published as RealSense topics at 30 Hz, restamped with the
+// publication time (so the node's latency is image stamp -> pose), and checks of the TF
+// tree, the poses (ATE against the scene's ground truth, next to `plslam run` threaded on
+// the same frames), the sparse map in the map frame, the save service and the outputs
+// written on SIGINT. Prints the latency and drop figures that docs/RESULTS.md quotes.
+#include <gtest/gtest.h>
+#include <geometry_msgs/PoseStamped.h>
+#include <ros/ros.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <signal.h>
+#include <std_srvs/Trigger.h>
+#include <sys/wait.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <thread>
+
+#include "camera/camera_file.h"
+#include "eval/trajectory_eval.h"
+#include "io/dataset.h"
+#include "io/trajectory_file.h"
+#include "ros1/msg_convert.h"
+#include "ros_fixture.h"
+#include "support/test_support.h"
+#include "synthetic_cache.h"
+#include "system/run_outputs.h"
+
+using namespace plslam;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kFrames = 300;
+
+pid_t startNode(const std::string& out) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const std::string exe = test::binaryDir() + "/plslam_ros";
+    const std::string out_param = "_out:=" + out;
+    execl(exe.c_str(), exe.c_str(), "__name:=plslam", out_param.c_str(), "_sparse_period:=0.5",
+          static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  return pid;
+}
+
+int stopNode(pid_t pid) {
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// What the test hears from the node.
+struct Heard {
+  std::mutex mutex;
+  std::map<TimeNs, double> latency_ms;  // pose stamp -> receive time - stamp
+  std::string cloud_frame;
+  size_t cloud_points = 0;
+};
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5))];
+}
+
+}  // namespace
+
+TEST(RosNode, PublishesPosesTfAndMapsAndWritesOutputs) {
+  test::RosMaster master;
+  ASSERT_TRUE(master.ok()) << master.why();
+  const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, kFrames);
+  const std::string scratch = test::scratchDir("rosnode");
+  const std::string out = scratch + "/node";
+  const pid_t node = startNode(out);
+  ASSERT_GT(node, 0);
+
+  int argc = 1;
+  char name[] = "plslam_test";
+  char* argv[] = {name, nullptr};
+  ros::init(argc, argv, "plslam_test", ros::init_options::NoSigintHandler | ros::init_options::AnonymousName);
+  ros::NodeHandle nh;
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  Heard heard;
+  auto pose_sub = nh.subscribe<geometry_msgs::PoseStamped>("/plslam/camera_pose", 400, [&](const auto& msg) {
+    std::lock_guard<std::mutex> lock(heard.mutex);
+    heard.latency_ms[ros1::toNs(msg->header.stamp)] = (ros::Time::now() - msg->header.stamp).toSec() * 1000.0;
+  });
+  auto cloud_sub = nh.subscribe<sensor_msgs::PointCloud2>("/plslam/sparse_points", 1, [&](const auto& msg) {
+    std::lock_guard<std::mutex> lock(heard.mutex);
+    heard.cloud_frame = msg->header.frame_id;
+    heard.cloud_points = static_cast<size_t>(msg->width) * msg->height;
+  });
+  tf2_ros::Buffer tf_buffer;
+  tf2_ros::TransformListener tf_listener(tf_buffer);
+  auto colour_pub = nh.advertise<sensor_msgs::Image>("/camera/color/image_raw", 5);
+  auto depth_pub = nh.advertise<sensor_msgs::Image>("/camera/aligned_depth_to_color/image_raw", 5);
+  auto info_pub = nh.advertise<sensor_msgs::CameraInfo>("/camera/color/camera_info", 1, true);
+
+  const PinholeCamera camera = loadCameraFile(folder + "/camera.xml");
+  TumDataset dataset = TumDataset::open(folder, camera);
+  sensor_msgs::CameraInfo info = ros1::infoFromCamera(camera);
+  info.header.frame_id = "camera_color_optical_frame";
+  info_pub.publish(info);
+  for (int i = 0; i < 100 && (colour_pub.getNumSubscribers() == 0 || depth_pub.getNumSubscribers() == 0 ||
+                              info_pub.getNumSubscribers() == 0); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_GT(colour_pub.getNumSubscribers(), 0u) << "the node did not subscribe";
+  std::this_thread::sleep_for(std::chrono::seconds(1));  // the latched camera_info reaches it first
+
+  // Play at 30 Hz, each frame stamped when it is sent; the ground truth follows the stamps.
+  Trajectory groundtruth;
+  const Trajectory& folder_gt = dataset.groundtruth();
+  RgbdFrame frame;
+  ros::WallRate rate(30.0);
+  for (int i = 0; dataset.next(&frame); ++i) {
+    sensor_msgs::Image colour = ros1::bgrToImage(frame.bgr, "rgb8");
+    sensor_msgs::Image depth = ros1::depthToImage(frame.depth_m, true);
+    colour.header.frame_id = depth.header.frame_id = "camera_color_optical_frame";
+    colour.header.stamp = depth.header.stamp = ros::Time::now();
+    groundtruth.push_back({ros1::toNs(colour.header.stamp), folder_gt[i].T_w_c});
+    colour_pub.publish(colour);
+    depth_pub.publish(depth);
+    rate.sleep();
+  }
+  std::this_thread::sleep_for(std::chrono::seconds(3));  // the last frames' poses, a sparse map refresh
+
+  // TF: map -> base_footprint (no odometry frame given).
+  EXPECT_TRUE(tf_buffer.canTransform("map", "base_footprint", ros::Time(0), ros::Duration(1.0)));
+  {
+    std::lock_guard<std::mutex> lock(heard.mutex);
+    EXPECT_EQ(heard.cloud_frame, "map");
+    EXPECT_GT(heard.cloud_points, 100u);
+    // How many frames the node keeps up with depends on the machine's load; it drops the
+    // oldest rather than fall behind, so only a fair share is required here.
+    EXPECT_GT(heard.latency_ms.size(), kFrames / 5u);
+  }
+  // The save service writes the outputs while the node runs.
+  std_srvs::Trigger save;
+  ASSERT_TRUE(ros::service::call("/plslam/save_map", save));
+  EXPECT_TRUE(save.response.success) << save.response.message;
+  EXPECT_TRUE(fs::exists(out + "/map.plmap"));
+  const auto exported = test::runPlslam("export --map " + out + "/map.plmap --out " + scratch + "/export --grid");
+  EXPECT_EQ(exported.status, 0) << exported.output;
+  EXPECT_TRUE(fs::exists(scratch + "/export/grid.pgm"));
+
+  EXPECT_EQ(stopNode(node), 0);
+  for (const char* f : {"trajectory.txt", "stats.json", "map.plmap", "dense_cloud.pcd", "grid.pgm"})
+    EXPECT_TRUE(fs::exists(out + "/" + f)) << f;
+  const EvalResult node_ev = evaluate(groundtruth, readTumTrajectory(out + "/trajectory.txt"));
+  // plslam run, threaded, on the same frames.
+  const auto run = test::runPlslam("run --dataset " + folder + " --calib " + folder + "/camera.xml --out " + scratch +
+                                   "/run --quiet --no-dense");
+  ASSERT_EQ(run.status, 0) << run.output;
+  const EvalResult run_ev = evaluate(folder_gt, readTumTrajectory(scratch + "/run/trajectory.txt"));
+  std::vector<double> latency;
+  for (const auto& [t, ms] : heard.latency_ms) latency.push_back(ms);
+  const std::string stats = test::readFile(out + "/stats.json");
+  const size_t counts = stats.find("\"ros_received\"");
+  EXPECT_NE(counts, std::string::npos) << stats;
+  std::printf("[figures] node: %zu poses of %d frames published; latency image stamp -> pose received: median %.1f ms, "
+              "p95 %.1f ms; ATE node %.4f m (%d poses), plslam run threaded %.4f m (%d poses)\n[figures] node stats: %s\n",
+              latency.size(), kFrames, percentile(latency, 0.5), percentile(latency, 0.95), node_ev.ate.stats.rmse,
+              node_ev.ate.stats.count, run_ev.ate.stats.rmse, run_ev.ate.stats.count,
+              counts == std::string::npos ? "" : stats.substr(counts).c_str());
+  EXPECT_LT(node_ev.ate.stats.rmse, std::max(0.02, 2 * run_ev.ate.stats.rmse));
+  spinner.stop();
+  ros::shutdown();
+}
