@@ -99,7 +99,7 @@ void LiveSession::stop() {
   if (failure_) std::rethrow_exception(failure_);
   system_.finish();
   const SessionCounts c = counts();
-  kLog.info(str("session: received ", c.received, ", processed ", c.processed, ", dropped ", c.dropped, ", tracked ",
+  kLog.info(str("received ", c.received, ", processed ", c.processed, ", dropped ", c.dropped, ", tracked ",
                 c.tracked));
 }
 

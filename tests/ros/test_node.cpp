@@ -12,15 +12,17 @@
 #include <std_srvs/Trigger.h>
 #include <sys/wait.h>
 #include <tf2_ros/buffer.h>
+#include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <thread>
+#include <vector>
 
 #include "camera/camera_file.h"
 #include "eval/trajectory_eval.h"
@@ -30,22 +32,22 @@
 #include "ros_fixture.h"
 #include "support/test_support.h"
 #include "synthetic_cache.h"
-#include "system/run_outputs.h"
 
 using namespace plslam;
 namespace fs = std::filesystem;
 
 namespace {
 
-constexpr int kFrames = 300;
-
-pid_t startNode(const std::string& out) {
+pid_t startNode(const std::string& out, const std::vector<std::string>& params) {
   const pid_t pid = fork();
   if (pid == 0) {
     const std::string exe = test::binaryDir() + "/plslam_ros";
-    const std::string out_param = "_out:=" + out;
-    execl(exe.c_str(), exe.c_str(), "__name:=plslam", out_param.c_str(), "_sparse_period:=0.5",
-          static_cast<char*>(nullptr));
+    std::vector<std::string> args = {exe, "__name:=plslam", "_out:=" + out};
+    args.insert(args.end(), params.begin(), params.end());
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execv(exe.c_str(), argv.data());
     _exit(127);
   }
   return pid;
@@ -58,97 +60,117 @@ int stopNode(pid_t pid) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-// What the test hears from the node.
-struct Heard {
-  std::mutex mutex;
-  std::map<TimeNs, double> latency_ms;  // pose stamp -> receive time - stamp
-  std::string cloud_frame;
-  size_t cloud_points = 0;
-};
-
 double percentile(std::vector<double> v, double q) {
   if (v.empty()) return 0;
   std::sort(v.begin(), v.end());
   return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5))];
 }
 
+// This test process as a ROS node: the camera's publishers, and what it hears back.
+class CameraPlayer {
+ public:
+  CameraPlayer() {
+    int argc = 1;
+    char name[] = "plslam_test";
+    char* argv[] = {name, nullptr};
+    if (!ros::isInitialized())
+      ros::init(argc, argv, "plslam_test", ros::init_options::NoSigintHandler | ros::init_options::AnonymousName);
+    nh_ = std::make_unique<ros::NodeHandle>();
+    spinner_ = std::make_unique<ros::AsyncSpinner>(2);
+    spinner_->start();
+    tf_listener_ = std::make_unique<tf2_ros::TransformListener>(tf_buffer);
+    pose_sub_ = nh_->subscribe<geometry_msgs::PoseStamped>("/plslam/camera_pose", 400, [this](const auto& msg) {
+      std::lock_guard<std::mutex> lock(mutex);
+      latency_ms[ros1::toNs(msg->header.stamp)] = (ros::Time::now() - msg->header.stamp).toSec() * 1000.0;
+    });
+    base_sub_ = nh_->subscribe<geometry_msgs::PoseStamped>("/plslam/base_pose", 400, [this](const auto& msg) {
+      std::lock_guard<std::mutex> lock(mutex);
+      last_base = *msg;
+    });
+    cloud_sub_ = nh_->subscribe<sensor_msgs::PointCloud2>("/plslam/sparse_points", 1, [this](const auto& msg) {
+      std::lock_guard<std::mutex> lock(mutex);
+      cloud_frame = msg->header.frame_id;
+      cloud_points = static_cast<size_t>(msg->width) * msg->height;
+    });
+    colour_pub_ = nh_->advertise<sensor_msgs::Image>("/camera/color/image_raw", 5);
+    depth_pub_ = nh_->advertise<sensor_msgs::Image>("/camera/aligned_depth_to_color/image_raw", 5);
+    info_pub_ = nh_->advertise<sensor_msgs::CameraInfo>("/camera/color/camera_info", 1, true);
+  }
+  ~CameraPlayer() { spinner_->stop(); }
+
+  /// Waits for the node's subscriptions, then plays `folder` at 30 Hz. Returns the ground
+  /// truth under the publication stamps.
+  Trajectory play(const std::string& folder, int frames) {
+    const PinholeCamera camera = loadCameraFile(folder + "/camera.xml");
+    TumDataset dataset = TumDataset::open(folder, camera);
+    sensor_msgs::CameraInfo info = ros1::infoFromCamera(camera);
+    info.header.frame_id = "camera_color_optical_frame";
+    info_pub_.publish(info);
+    for (int i = 0; i < 200 && (colour_pub_.getNumSubscribers() == 0 || depth_pub_.getNumSubscribers() == 0 ||
+                                info_pub_.getNumSubscribers() == 0); ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    EXPECT_GT(colour_pub_.getNumSubscribers(), 0u) << "the node did not subscribe";
+    std::this_thread::sleep_for(std::chrono::seconds(1));  // the latched camera_info reaches it first
+    Trajectory groundtruth;
+    RgbdFrame frame;
+    ros::WallRate rate(30.0);
+    for (int i = 0; i < frames && dataset.next(&frame); ++i) {
+      sensor_msgs::Image colour = ros1::bgrToImage(frame.bgr, "rgb8");
+      sensor_msgs::Image depth = ros1::depthToImage(frame.depth_m, true);
+      colour.header.frame_id = depth.header.frame_id = "camera_color_optical_frame";
+      colour.header.stamp = depth.header.stamp = ros::Time::now();
+      groundtruth.push_back({ros1::toNs(colour.header.stamp), dataset.groundtruth()[i].T_w_c});
+      colour_pub_.publish(colour);
+      depth_pub_.publish(depth);
+      rate.sleep();
+    }
+    std::this_thread::sleep_for(std::chrono::seconds(3));  // the last frames' poses, a sparse map refresh
+    return groundtruth;
+  }
+
+  tf2_ros::Buffer tf_buffer;
+  std::mutex mutex;
+  std::map<TimeNs, double> latency_ms;  // pose stamp -> receive time - stamp
+  geometry_msgs::PoseStamped last_base;
+  std::string cloud_frame;
+  size_t cloud_points = 0;
+
+ private:
+  std::unique_ptr<ros::NodeHandle> nh_;
+  std::unique_ptr<ros::AsyncSpinner> spinner_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  ros::Subscriber pose_sub_, base_sub_, cloud_sub_;
+  ros::Publisher colour_pub_, depth_pub_, info_pub_;
+};
+
 }  // namespace
 
 TEST(RosNode, PublishesPosesTfAndMapsAndWritesOutputs) {
+  constexpr int kFrames = 300;
   test::RosMaster master;
   ASSERT_TRUE(master.ok()) << master.why();
   const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, kFrames);
   const std::string scratch = test::scratchDir("rosnode");
   const std::string out = scratch + "/node";
-  const pid_t node = startNode(out);
+  const pid_t node = startNode(out, {"_sparse_period:=0.5"});
   ASSERT_GT(node, 0);
-
-  int argc = 1;
-  char name[] = "plslam_test";
-  char* argv[] = {name, nullptr};
-  ros::init(argc, argv, "plslam_test", ros::init_options::NoSigintHandler | ros::init_options::AnonymousName);
-  ros::NodeHandle nh;
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  Heard heard;
-  auto pose_sub = nh.subscribe<geometry_msgs::PoseStamped>("/plslam/camera_pose", 400, [&](const auto& msg) {
-    std::lock_guard<std::mutex> lock(heard.mutex);
-    heard.latency_ms[ros1::toNs(msg->header.stamp)] = (ros::Time::now() - msg->header.stamp).toSec() * 1000.0;
-  });
-  auto cloud_sub = nh.subscribe<sensor_msgs::PointCloud2>("/plslam/sparse_points", 1, [&](const auto& msg) {
-    std::lock_guard<std::mutex> lock(heard.mutex);
-    heard.cloud_frame = msg->header.frame_id;
-    heard.cloud_points = static_cast<size_t>(msg->width) * msg->height;
-  });
-  tf2_ros::Buffer tf_buffer;
-  tf2_ros::TransformListener tf_listener(tf_buffer);
-  auto colour_pub = nh.advertise<sensor_msgs::Image>("/camera/color/image_raw", 5);
-  auto depth_pub = nh.advertise<sensor_msgs::Image>("/camera/aligned_depth_to_color/image_raw", 5);
-  auto info_pub = nh.advertise<sensor_msgs::CameraInfo>("/camera/color/camera_info", 1, true);
-
-  const PinholeCamera camera = loadCameraFile(folder + "/camera.xml");
-  TumDataset dataset = TumDataset::open(folder, camera);
-  sensor_msgs::CameraInfo info = ros1::infoFromCamera(camera);
-  info.header.frame_id = "camera_color_optical_frame";
-  info_pub.publish(info);
-  for (int i = 0; i < 100 && (colour_pub.getNumSubscribers() == 0 || depth_pub.getNumSubscribers() == 0 ||
-                              info_pub.getNumSubscribers() == 0); ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  ASSERT_GT(colour_pub.getNumSubscribers(), 0u) << "the node did not subscribe";
-  std::this_thread::sleep_for(std::chrono::seconds(1));  // the latched camera_info reaches it first
-
-  // Play at 30 Hz, each frame stamped when it is sent; the ground truth follows the stamps.
-  Trajectory groundtruth;
-  const Trajectory& folder_gt = dataset.groundtruth();
-  RgbdFrame frame;
-  ros::WallRate rate(30.0);
-  for (int i = 0; dataset.next(&frame); ++i) {
-    sensor_msgs::Image colour = ros1::bgrToImage(frame.bgr, "rgb8");
-    sensor_msgs::Image depth = ros1::depthToImage(frame.depth_m, true);
-    colour.header.frame_id = depth.header.frame_id = "camera_color_optical_frame";
-    colour.header.stamp = depth.header.stamp = ros::Time::now();
-    groundtruth.push_back({ros1::toNs(colour.header.stamp), folder_gt[i].T_w_c});
-    colour_pub.publish(colour);
-    depth_pub.publish(depth);
-    rate.sleep();
-  }
-  std::this_thread::sleep_for(std::chrono::seconds(3));  // the last frames' poses, a sparse map refresh
+  CameraPlayer player;
+  const Trajectory groundtruth = player.play(folder, kFrames);
 
   // TF: map -> base_footprint (no odometry frame given).
-  EXPECT_TRUE(tf_buffer.canTransform("map", "base_footprint", ros::Time(0), ros::Duration(1.0)));
+  EXPECT_TRUE(player.tf_buffer.canTransform("map", "base_footprint", ros::Time(0), ros::Duration(1.0)));
   {
-    std::lock_guard<std::mutex> lock(heard.mutex);
-    EXPECT_EQ(heard.cloud_frame, "map");
-    EXPECT_GT(heard.cloud_points, 100u);
+    std::lock_guard<std::mutex> lock(player.mutex);
+    EXPECT_EQ(player.cloud_frame, "map");
+    EXPECT_GT(player.cloud_points, 100u);
     // How many frames the node keeps up with depends on the machine's load; it drops the
     // oldest rather than fall behind, so only a fair share is required here.
-    EXPECT_GT(heard.latency_ms.size(), kFrames / 5u);
+    EXPECT_GT(player.latency_ms.size(), kFrames / 5u);
   }
-  // The save service writes the outputs while the node runs.
+  // The save service writes the outputs while the node runs; `plslam export` reads its map.
   std_srvs::Trigger save;
   ASSERT_TRUE(ros::service::call("/plslam/save_map", save));
   EXPECT_TRUE(save.response.success) << save.response.message;
-  EXPECT_TRUE(fs::exists(out + "/map.plmap"));
   const auto exported = test::runPlslam("export --map " + out + "/map.plmap --out " + scratch + "/export --grid");
   EXPECT_EQ(exported.status, 0) << exported.output;
   EXPECT_TRUE(fs::exists(scratch + "/export/grid.pgm"));
@@ -161,9 +183,10 @@ TEST(RosNode, PublishesPosesTfAndMapsAndWritesOutputs) {
   const auto run = test::runPlslam("run --dataset " + folder + " --calib " + folder + "/camera.xml --out " + scratch +
                                    "/run --quiet --no-dense");
   ASSERT_EQ(run.status, 0) << run.output;
-  const EvalResult run_ev = evaluate(folder_gt, readTumTrajectory(scratch + "/run/trajectory.txt"));
+  const EvalResult run_ev = evaluate(readTumTrajectory(folder + "/groundtruth.txt"),
+                                     readTumTrajectory(scratch + "/run/trajectory.txt"));
   std::vector<double> latency;
-  for (const auto& [t, ms] : heard.latency_ms) latency.push_back(ms);
+  for (const auto& [t, ms] : player.latency_ms) latency.push_back(ms);
   const std::string stats = test::readFile(out + "/stats.json");
   const size_t counts = stats.find("\"ros_received\"");
   EXPECT_NE(counts, std::string::npos) << stats;
@@ -173,6 +196,36 @@ TEST(RosNode, PublishesPosesTfAndMapsAndWritesOutputs) {
               node_ev.ate.stats.count, run_ev.ate.stats.rmse, run_ev.ate.stats.count,
               counts == std::string::npos ? "" : stats.substr(counts).c_str());
   EXPECT_LT(node_ev.ate.stats.rmse, std::max(0.02, 2 * run_ev.ate.stats.rmse));
-  spinner.stop();
-  ros::shutdown();
+}
+
+TEST(RosNode, WithAnOdometryFramePublishesMapToOdom) {
+  test::RosMaster master;
+  ASSERT_TRUE(master.ok()) << master.why();
+  const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, 60);
+  const std::string scratch = test::scratchDir("rosnode_odom");
+  const pid_t node = startNode(scratch + "/node", {"_odom_frame:=odom", "_no_dense:=true"});
+  ASSERT_GT(node, 0);
+  CameraPlayer player;
+  // The wheel odometry, here a fixed odom -> base_footprint.
+  tf2_ros::StaticTransformBroadcaster odometry;
+  geometry_msgs::TransformStamped odom_base;
+  odom_base.header.frame_id = "odom";
+  odom_base.child_frame_id = "base_footprint";
+  odom_base.transform.translation.x = 0.5;
+  odom_base.transform.rotation.w = 1;
+  odometry.sendTransform(odom_base);
+  player.play(folder, 60);
+
+  ASSERT_TRUE(player.tf_buffer.canTransform("map", "odom", ros::Time(0), ros::Duration(1.0)));
+  const auto map_base = player.tf_buffer.lookupTransform("map", "base_footprint", ros::Time(0));
+  geometry_msgs::PoseStamped base;
+  {
+    std::lock_guard<std::mutex> lock(player.mutex);
+    base = player.last_base;
+  }
+  // map -> odom -> base_footprint is the node's base pose.
+  EXPECT_NEAR(map_base.transform.translation.x, base.pose.position.x, 1e-6);
+  EXPECT_NEAR(map_base.transform.translation.y, base.pose.position.y, 1e-6);
+  EXPECT_NEAR(map_base.transform.translation.z, base.pose.position.z, 1e-6);
+  EXPECT_EQ(stopNode(node), 0);
 }

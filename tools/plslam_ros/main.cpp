@@ -1,8 +1,10 @@
 // plslam_ros: point-line RGB-D SLAM as a ROS 1 node (see ros_node.h and README "Under ROS").
 #include <ros/ros.h>
 #include <signal.h>
+#include <unistd.h>
 
 #include <exception>
+#include <thread>
 
 #include "core/log.h"
 #include "ros_node.h"
@@ -22,6 +24,12 @@ int main(int argc, char** argv) {
     plslam::ros1::RosNode node(nh, pnh, plslam::ros1::NodeSettings::fromParameters(pnh));
     ros::AsyncSpinner spinner(2);
     spinner.start();
+    // A shutdown asked through ROS (rosnode kill, the master going away) ends the node the
+    // same way as SIGTERM: wake the sigwait below.
+    std::thread([] {
+      ros::waitForShutdown();
+      kill(getpid(), SIGTERM);
+    }).detach();
     int signal = 0;
     sigwait(&stop_signals, &signal);
     ROS_INFO("plslam_ros: %s: finishing and writing the outputs", signal == SIGINT ? "SIGINT" : "SIGTERM");
