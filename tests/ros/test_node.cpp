@@ -66,6 +66,13 @@ double percentile(std::vector<double> v, double q) {
   return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5))];
 }
 
+// How CameraPlayer::play sends a folder.
+struct Play {
+  std::string camera_file;   ///< empty: <folder>/camera.xml
+  bool restamp = true;       ///< stamp each frame when it is sent (else: the folder's stamps)
+  bool millimetres = true;   ///< depth as 16UC1 millimetres (else 32FC1 metres)
+};
+
 // This test process as a ROS node: the camera's publishers, and what it hears back.
 class CameraPlayer {
  public:
@@ -98,10 +105,10 @@ class CameraPlayer {
   }
   ~CameraPlayer() { spinner_->stop(); }
 
-  /// Waits for the node's subscriptions, then plays `folder` at 30 Hz. Returns the ground
-  /// truth under the publication stamps.
-  Trajectory play(const std::string& folder, int frames) {
-    const PinholeCamera camera = loadCameraFile(folder + "/camera.xml");
+  /// Waits for the node's subscriptions, then plays `folder` at 30 Hz. With restamp, returns
+  /// the ground truth (one pose per frame, as plslam synth writes it) under the new stamps.
+  Trajectory play(const std::string& folder, int frames, const Play& how = Play()) {
+    const PinholeCamera camera = loadCameraFile(how.camera_file.empty() ? folder + "/camera.xml" : how.camera_file);
     TumDataset dataset = TumDataset::open(folder, camera);
     sensor_msgs::CameraInfo info = ros1::infoFromCamera(camera);
     info.header.frame_id = "camera_color_optical_frame";
@@ -116,10 +123,10 @@ class CameraPlayer {
     ros::WallRate rate(30.0);
     for (int i = 0; i < frames && dataset.next(&frame); ++i) {
       sensor_msgs::Image colour = ros1::bgrToImage(frame.bgr, "rgb8");
-      sensor_msgs::Image depth = ros1::depthToImage(frame.depth_m, true);
+      sensor_msgs::Image depth = ros1::depthToImage(frame.depth_m, how.millimetres);
       colour.header.frame_id = depth.header.frame_id = "camera_color_optical_frame";
-      colour.header.stamp = depth.header.stamp = ros::Time::now();
-      groundtruth.push_back({ros1::toNs(colour.header.stamp), dataset.groundtruth()[i].T_w_c});
+      colour.header.stamp = depth.header.stamp = how.restamp ? ros::Time::now() : ros1::toRosTime(frame.t_ns);
+      if (how.restamp) groundtruth.push_back({ros1::toNs(colour.header.stamp), dataset.groundtruth()[i].T_w_c});
       colour_pub_.publish(colour);
       depth_pub_.publish(depth);
       rate.sleep();
@@ -228,4 +235,35 @@ TEST(RosNode, WithAnOdometryFramePublishesMapToOdom) {
   EXPECT_NEAR(map_base.transform.translation.y, base.pose.position.y, 1e-6);
   EXPECT_NEAR(map_base.transform.translation.z, base.pose.position.z, 1e-6);
   EXPECT_EQ(stopNode(node), 0);
+}
+
+TEST(RosNode, RealSequenceAteNextToPlslamRun) {
+  PLSLAM_REQUIRE_SHARED("data/tum/fr1_xyz_0-199");
+  const std::string folder = test::sharedDir() + "/data/tum/fr1_xyz_0-199";
+  const std::string calib = test::sourceDir() + "/calib/tum_freiburg1.xml";
+  test::RosMaster master;
+  ASSERT_TRUE(master.ok()) << master.why();
+  const std::string scratch = test::scratchDir("rosnode_fr1");
+  const pid_t node = startNode(scratch + "/node", {"_no_dense:=true"});
+  ASSERT_GT(node, 0);
+  CameraPlayer player;
+  Play how;
+  how.camera_file = calib;  // sent as camera_info, distortion included
+  how.restamp = false;      // the recorded stamps, to compare with the ground truth
+  how.millimetres = false;  // 32FC1 metres, as TUM's own bags
+  player.play(folder, 200, how);
+  EXPECT_EQ(stopNode(node), 0);
+  const Trajectory gt = readTumTrajectory(folder + "/groundtruth.txt");
+  const EvalResult node_ev = evaluate(gt, readTumTrajectory(scratch + "/node/trajectory.txt"));
+  const auto run = test::runPlslam("run --dataset " + folder + " --calib " + calib + " --out " + scratch +
+                                   "/run --quiet --no-dense");
+  ASSERT_EQ(run.status, 0) << run.output;
+  const EvalResult run_ev = evaluate(gt, readTumTrajectory(scratch + "/run/trajectory.txt"));
+  const std::string stats = test::readFile(scratch + "/node/stats.json");
+  const size_t counts = stats.find("\"ros_received\"");
+  std::printf("[figures] fr1_xyz_0-199 at 30 Hz: ATE node %.4f m (%d poses), plslam run threaded %.4f m (%d poses)\n"
+              "[figures] node stats: %s\n",
+              node_ev.ate.stats.rmse, node_ev.ate.stats.count, run_ev.ate.stats.rmse, run_ev.ate.stats.count,
+              counts == std::string::npos ? "" : stats.substr(counts).c_str());
+  EXPECT_LT(node_ev.ate.stats.rmse, std::max(0.03, 2 * run_ev.ate.stats.rmse));
 }
