@@ -58,8 +58,6 @@ class BagSource : public FrameSource {
 
   const PinholeCamera& camera() const { return camera_; }
   const BagTopics& topics() const { return topics_; }
-  int colourMessages() const { return static_cast<int>(colour_.size()); }
-  int depthMessages() const { return static_cast<int>(depth_.size()); }
 
  private:
   struct Stamped {

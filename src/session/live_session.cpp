@@ -62,7 +62,6 @@ void LiveSession::slamLoop() {
         out.reason = r.reason;
         out.tracked = isTracked(r.status);
         out.T_w_c = r.T_w_c;
-        out.new_keyframe = r.new_keyframe;
         keyframes_ += r.new_keyframe;
         out.keyframes = keyframes_;
       }

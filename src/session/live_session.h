@@ -42,7 +42,6 @@ struct FrameOutcome {
   std::string reason;        ///< why, when not tracked
   bool tracked = false;
   SE3 T_w_c;                 ///< camera pose in plslam's world (the first camera's optical frame); valid when tracked
-  bool new_keyframe = false;
   int keyframes = 0;         ///< keyframes made in this session so far
   double tracking_ms = 0;    ///< System::feed time of this frame
 };
@@ -90,7 +89,6 @@ class LiveSession {
   void writeOutputs(const std::string& dir, const std::string& stats_extra, bool dense);
 
   const System& system() const { return system_; }
-  const std::string& configYaml() const { return config_yaml_; }
 
  private:
   void slamLoop();

@@ -79,7 +79,8 @@ RosMaster::RosMaster() {
 
 RosMaster::~RosMaster() {
   if (pid_ <= 0) return;
-  kill(pid_, SIGINT);
+  // SIGTERM, not SIGINT: a test started in the background inherits SIGINT ignored.
+  kill(pid_, SIGTERM);
   int status = 0;
   for (int i = 0; i < 50; ++i) {
     if (waitpid(pid_, &status, WNOHANG) == pid_) return;

@@ -3,7 +3,8 @@
 // publication time (so the node's latency is image stamp -> pose), and checks of the TF
 // tree, the poses (ATE against the scene's ground truth, next to `plslam run` threaded on
 // the same frames), the sparse map in the map frame, the save service and the outputs
-// written on SIGINT. Prints the latency and drop figures that docs/RESULTS.md quotes.
+// written on SIGINT. Prints the latency and drop figures that docs/RESULTS.md quotes;
+// PLSLAM_ROS_NODE_PARAMS (e.g. "_queue:=1") adds node parameters for such measurements.
 #include <gtest/gtest.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <ros/ros.h>
@@ -17,6 +18,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdlib>
+#include <sstream>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -44,6 +47,10 @@ pid_t startNode(const std::string& out, const std::vector<std::string>& params) 
     const std::string exe = test::binaryDir() + "/plslam_ros";
     std::vector<std::string> args = {exe, "__name:=plslam", "_out:=" + out};
     args.insert(args.end(), params.begin(), params.end());
+    if (const char* extra = std::getenv("PLSLAM_ROS_NODE_PARAMS")) {
+      std::istringstream words(extra);
+      for (std::string w; words >> w;) args.push_back(w);
+    }
     std::vector<char*> argv;
     for (std::string& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);

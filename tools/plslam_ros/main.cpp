@@ -12,6 +12,10 @@
 int main(int argc, char** argv) {
   // SIGINT and SIGTERM are taken by sigwait below, on this thread; blocked before any
   // thread starts, so roscpp's and the SLAM threads inherit the mask and never see them.
+  // A shell that starts the node in the background leaves SIGINT ignored, and an ignored
+  // signal never reaches sigwait: take the default disposition back first.
+  signal(SIGINT, SIG_DFL);
+  signal(SIGTERM, SIG_DFL);
   sigset_t stop_signals;
   sigemptyset(&stop_signals);
   sigaddset(&stop_signals, SIGINT);

@@ -91,6 +91,7 @@ diagnostic_msgs::DiagnosticArray statusMessage(const FrameOutcome& frame, const 
   };
   char ms[32];
   std::snprintf(ms, sizeof(ms), "%.2f", frame.tracking_ms);
+  add("status", toString(frame.status));
   add("tracking_ms", ms);
   std::snprintf(ms, sizeof(ms), "%.2f", latency_ms);
   add("latency_ms", ms);
