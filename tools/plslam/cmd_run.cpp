@@ -24,24 +24,8 @@ namespace plslam::cli {
 
 namespace {
 
-// The switches of the command line that shape the System (session/run_config.h).
-RunSwitches runSwitches(const Args& args) {
-  RunSwitches switches;
-  switches.config = args.str("config");
-  switches.map = args.str("map");
-  switches.localize = args.has("localize");
-  switches.sequential = args.has("sequential");
-  switches.no_lines = args.has("no-lines");
-  switches.no_dynamic = args.has("no-dynamic");
-  switches.no_loop = args.has("no-loop");
-  switches.segmenter = args.str("segmenter");
-  switches.classes = args.str("classes");
-  switches.dynamic_classes = args.str("dynamic-classes");
-  switches.allow_missing_model = args.has("allow-missing-model");
-  return switches;
-}
-
-int runRun(int argc, char** argv) {
+// The command line of plslam run.
+Args runArguments() {
   Args args("run", "Point-line RGB-D SLAM over a recorded folder (TUM RGB-D layout, ICL-NUIM, or plslam synth).");
   args.option("dataset", "folder with rgb.txt and depth.txt (or associations.txt), or a ROS bag (FILE.bag)", "", true)
       .option("calib", "camera file (ViSP XML, see calib/); with --map, default: the map's camera; a bag's default: its camera_info")
@@ -77,6 +61,67 @@ int runRun(int argc, char** argv) {
           "/camera/rgb/camera_info) or the RealSense driver's (/camera/color/image_raw,\n"
           "/camera/aligned_depth_to_color/image_raw in millimetres, /camera/color/camera_info).\n\n"
           "example: plslam run --dataset rgbd_dataset_freiburg1_xyz --calib calib/tum_freiburg1.xml --out maps/fr1_xyz");
+  return args;
+}
+
+// The figures of a finished run, on stdout.
+void printSummary(const RunStats& st, const FrameSource& dataset, const std::string& ate_line, const std::string& out) {
+  const Summary tms = summarize(st.tracking_ms);
+  std::printf("frames %d, tracked %d (%.1f%%), keyframes %d, lost %d, map %d points %d lines\n", st.frames, st.tracked,
+              st.frames ? 100.0 * st.tracked / st.frames : 0.0, st.keyframes, st.lost_events, st.map_points, st.map_lines);
+  std::printf("tracking %.1f ms/frame median, %.1f p95, %.1f max; line reconstruction rate: fitting %.3f, endpoints %.3f\n",
+              tms.median, tms.p95, tms.max, st.line_rate_fitting, st.line_rate_endpoints);
+  const std::string skipped = dataset.skippedText();
+  if (!skipped.empty()) std::printf("skipped %d of %zu frames: %s\n", dataset.skippedTotal(), dataset.size(), skipped.c_str());
+  if (!ate_line.empty()) std::printf("%s\n", ate_line.c_str());
+  std::printf("outputs: %s\n", out.c_str());
+}
+
+// The switches of the command line that shape the System (session/run_config.h).
+RunSwitches runSwitches(const Args& args) {
+  RunSwitches switches;
+  switches.config = args.str("config");
+  switches.map = args.str("map");
+  switches.localize = args.has("localize");
+  switches.sequential = args.has("sequential");
+  switches.no_lines = args.has("no-lines");
+  switches.no_dynamic = args.has("no-dynamic");
+  switches.no_loop = args.has("no-loop");
+  switches.segmenter = args.str("segmenter");
+  switches.classes = args.str("classes");
+  switches.dynamic_classes = args.str("dynamic-classes");
+  switches.allow_missing_model = args.has("allow-missing-model");
+  return switches;
+}
+
+// The folder or bag of --dataset with the camera its frames are read with (--calib, a
+// bag's camera_info, or the saved map's camera), and the replay segmenter's labels.
+OpenedSource openRunSource(const Args& args, RunConfig* config) {
+  std::optional<PinholeCamera> calib;
+  if (args.has("calib")) calib = loadCameraFile(args.str("calib"));
+  else if (config->map && !isBagPath(args.str("dataset"))) calib = config->map->camera;
+  DatasetOptions dopt;
+  dopt.max_frames = args.integer("max-frames", 0, 100000000);
+  dopt.groundtruth_file = args.str("groundtruth");
+  OpenedSource opened = openFrameSource(args.str("dataset"), calib ? &*calib : nullptr, dopt);
+  const FrameSource& dataset = *opened.source;
+  const PinholeCamera& camera = opened.camera;
+  if (config->map && (camera.width != config->map->camera.width || camera.height != config->map->camera.height ||
+                      camera.fx != config->map->camera.fx || camera.fy != config->map->camera.fy))
+    std::fprintf(stderr, "[run] warning: the camera differs from the one the map was built with\n");
+  SegmenterOptions& segmenter = config->options.segmenter;
+  if (segmenter.kind == SegmenterKind::kReplay) {
+    const auto* folder = dynamic_cast<const TumDataset*>(&dataset);
+    if (!folder || (folder->instanceLabels().empty() && folder->listReport().masks_listed == 0))
+      throw ConfigError("plslam run: --segmenter replay needs a folder with masks.txt (plslam synth writes one): " +
+                        dataset.location());
+    segmenter.replay_labels = replayLabels(*folder);
+  }
+  return opened;
+}
+
+int runRun(int argc, char** argv) {
+  Args args = runArguments();
   if (!args.parse(argc, argv)) return 0;
   setLogLevel(parseLogLevel(args.str("log-level")));
 
@@ -94,25 +139,9 @@ int runRun(int argc, char** argv) {
     return 0;
   }
 
-  std::optional<PinholeCamera> calib;
-  if (args.has("calib")) calib = loadCameraFile(args.str("calib"));
-  else if (config.map && !bag) calib = config.map->camera;
-  DatasetOptions dopt;
-  dopt.max_frames = args.integer("max-frames", 0, 100000000);
-  dopt.groundtruth_file = args.str("groundtruth");
-  OpenedSource opened = openFrameSource(args.str("dataset"), calib ? &*calib : nullptr, dopt);
+  OpenedSource opened = openRunSource(args, &config);
   FrameSource& dataset = *opened.source;
   const PinholeCamera camera = opened.camera;
-  if (config.map && (camera.width != config.map->camera.width || camera.height != config.map->camera.height ||
-                     camera.fx != config.map->camera.fx || camera.fy != config.map->camera.fy))
-    std::fprintf(stderr, "[run] warning: the camera differs from the one the map was built with\n");
-  if (options.segmenter.kind == SegmenterKind::kReplay) {
-    const auto* folder = dynamic_cast<const TumDataset*>(&dataset);
-    if (!folder || (folder->instanceLabels().empty() && folder->listReport().masks_listed == 0))
-      throw ConfigError("plslam run: --segmenter replay needs a folder with masks.txt (plslam synth writes one): " +
-                        dataset.location());
-    options.segmenter.replay_labels = replayLabels(*folder);
-  }
   const std::string out = args.str("out");
   // Refuse an unusable output folder before the run, not after it.
   {
@@ -157,15 +186,7 @@ int runRun(int argc, char** argv) {
   writeRunOutputs(out, slam, config.config_yaml, runStatsExtra(dataset, evaluation),
                   args.has("save-map") ? args.str("save-map") : std::string());
 
-  const RunStats st = slam.stats();
-  const Summary tms = summarize(st.tracking_ms);
-  std::printf("frames %d, tracked %d (%.1f%%), keyframes %d, lost %d, map %d points %d lines\n", st.frames, st.tracked,
-              st.frames ? 100.0 * st.tracked / st.frames : 0.0, st.keyframes, st.lost_events, st.map_points, st.map_lines);
-  std::printf("tracking %.1f ms/frame median, %.1f p95, %.1f max; line reconstruction rate: fitting %.3f, endpoints %.3f\n",
-              tms.median, tms.p95, tms.max, st.line_rate_fitting, st.line_rate_endpoints);
-  if (!skipped.empty()) std::printf("skipped %d of %zu frames: %s\n", dataset.skippedTotal(), dataset.size(), skipped.c_str());
-  if (!ate_line.empty()) std::printf("%s\n", ate_line.c_str());
-  std::printf("outputs: %s\n", out.c_str());
+  printSummary(slam.stats(), dataset, ate_line, out);
   if (!args.has("no-dense") && options.dense.enabled && !writeDenseMaps(slam.map(), camera, options.dense, {}, out, progress))
     return 130;
   return fed.interrupted ? 130 : 0;
