@@ -110,3 +110,31 @@ TEST(RosBag, ABagWithoutKnownTopicsIsRefusedListingItsTopics) {
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.output.find("/scan_like"), std::string::npos) << r.output;
 }
+
+TEST(RosBag, PairsByStampAndCountsFramesItCannotConvert) {
+  const std::string bag_path = test::scratchDir("rosbag_skip") + "/small.bag";
+  PinholeCamera camera;
+  camera.width = 8, camera.height = 6, camera.fx = camera.fy = 10, camera.cx = 4, camera.cy = 3;
+  {
+    rosbag::Bag bag(bag_path, rosbag::bagmode::Write);
+    bag.write("/camera/color/camera_info", ros::Time(100, 0), ros1::infoFromCamera(camera));
+    for (int i = 0; i < 3; ++i) {
+      sensor_msgs::Image colour = ros1::bgrToImage(cv::Mat(6, 8, CV_8UC3, cv::Scalar(i, i, i)));
+      sensor_msgs::Image depth = ros1::depthToImage(cv::Mat(6, 8, CV_32FC1, cv::Scalar(1.0f)), true);
+      colour.header.stamp = ros::Time(100, i * 33000000);
+      depth.header.stamp = ros::Time(100, i * 33000000 + 5000000);  // 5 ms later: still a pair
+      if (i == 1) colour.encoding = "yuv422";
+      bag.write("/camera/color/image_raw", colour.header.stamp, colour);
+      bag.write("/camera/aligned_depth_to_color/image_raw", depth.header.stamp, depth);
+    }
+  }
+  auto source = ros1::BagSource::open(bag_path);
+  EXPECT_EQ(source->size(), 3u);
+  EXPECT_EQ(source->camera().width, 8);
+  std::vector<TimeNs> stamps;
+  RgbdFrame frame;
+  while (source->next(&frame)) stamps.push_back(frame.t_ns);
+  EXPECT_EQ(stamps, (std::vector<TimeNs>{100000000000LL, 100066000000LL}));
+  EXPECT_EQ(source->skippedTotal(), 1);
+  EXPECT_NE(source->skippedText().find("yuv422"), std::string::npos) << source->skippedText();
+}

@@ -43,7 +43,6 @@ NodeSettings NodeSettings::fromParameters(const ros::NodeHandle& pnh) {
   s.map_frame = param<std::string>(pnh, "map_frame", s.map_frame);
   s.odom_frame = param<std::string>(pnh, "odom_frame", "");
   s.base_frame = param<std::string>(pnh, "base_frame", s.base_frame);
-  s.camera_frame = param<std::string>(pnh, "camera_frame", "");
   s.session.queue = param(pnh, "queue", s.session.queue);
   s.session.drop_frames = !param(pnh, "no_drop", false);
   s.exact_sync = param<std::string>(pnh, "sync", "approximate") == "exact";
@@ -114,7 +113,6 @@ void RosNode::onImages(const sensor_msgs::ImageConstPtr& colour, const sensor_ms
     ++before_camera_;
     return;
   }
-  if (camera_frame_.empty()) camera_frame_ = settings_.camera_frame.empty() ? colour->header.frame_id : settings_.camera_frame;
   RgbdFrame frame;
   try {
     frame.bgr = colourToBgr(*colour);

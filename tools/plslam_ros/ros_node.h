@@ -39,7 +39,6 @@ struct NodeSettings {
   std::string camera_to_base;      ///< `plslam calib base` file; empty: opticalToBase() (camera at the base origin, level)
   std::string out = "plslam_ros_out";  ///< where the save service and the shutdown write the outputs
   std::string map_frame = "map", odom_frame, base_frame = "base_footprint";
-  std::string camera_frame;        ///< frame of ~camera_pose's child; empty: the colour image's frame_id
   SessionOptions session;          ///< queue, drop_frames
   bool exact_sync = false;         ///< pair colour and depth by equal stamps instead of ApproximateTime
   int sync_queue = 10;             ///< message_filters queue size
@@ -91,7 +90,6 @@ class RosNode {
 
   mutable std::mutex session_mutex_;
   std::unique_ptr<LiveSession> session_;
-  std::string camera_frame_;            // set by the first image pair
   nav_msgs::Path path_;                 // SLAM thread only
   std::atomic<int> before_camera_{0};   // image pairs received before the camera was known
   std::atomic<int> unconvertible_{0};   // image pairs that could not be converted
