@@ -20,12 +20,14 @@ packages=(
   clang libclang-rt-14-dev  # libFuzzer and clang's sanitizer runtimes (fuzz/, CMakePresets.json `fuzz`)
 )
 # ROS 1 (Debian's Noetic-era packages): bag input, the plslam_ros node, rosmaster for its tests,
-# roslaunch for tools/ros/*.launch. About 100 packages, 77 MB on disk (docs/RESULTS.md).
+# roslaunch for tools/ros/*.launch, rosservice/rostopic/rosnode to talk to the node.
+# 114 packages, 45 MB installed (docs/RESULTS.md).
 if [ "${PLSLAM_ROS:-1}" != 0 ]; then
   packages+=(
     libroscpp-dev librosbag-dev libtf2-ros-dev libmessage-filters-dev
     libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev libvisualization-msgs-dev
     libdiagnostic-msgs-dev libstd-srvs-dev python3-rosmaster python3-roslaunch
+    python3-rosservice python3-rostopic python3-rosnode python3-std-srvs
   )
 fi
 
