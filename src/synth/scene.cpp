@@ -459,9 +459,9 @@ Scene makeScene(SceneKind kind, const SceneOptions& options) {
   if (!(n.sigma_k >= 0) || !(n.quantum_m >= 0) || !(n.dropout_fraction >= 0 && n.dropout_fraction <= 1) ||
       !(n.min_depth_m >= 0 && n.max_depth_m > n.min_depth_m) || !(n.colour_sigma >= 0))
     throw ConfigError("synthetic scene: depth noise options out of range");
-  const auto& f = options.fast;
-  if (!(f.max_rotation_deg_s >= 1 && f.max_rotation_deg_s <= 2000) || !(f.exposure_ms >= 0 && f.exposure_ms <= 33) ||
-      !(f.blur_step_px >= 0.1) || f.max_subframes < 1 || f.max_subframes > 256)
+  const auto& fast = options.fast;
+  if (!(fast.max_rotation_deg_s >= 1 && fast.max_rotation_deg_s <= 2000) || !(fast.exposure_ms >= 0 && fast.exposure_ms <= 33) ||
+      !(fast.blur_step_px >= 0.1) || fast.max_subframes < 1 || fast.max_subframes > 256)
     throw ConfigError("synthetic scene: fast motion options out of range (rotation 1..2000 deg/s, exposure 0..33 ms, "
                       "blur step >= 0.1 px, 1..256 sub-frames)");
   Scene s;
@@ -478,8 +478,8 @@ Scene makeScene(SceneKind kind, const SceneOptions& options) {
   s.walks_ = walksFor(kind);
   for (size_t i = 0; i < s.walks_.size(); ++i) s.moving_info_.push_back({static_cast<int>(i) + 1, 0, "person"});
   if (kind == SceneKind::kFast) {
-    s.fast_path_.emplace(f.max_rotation_deg_s);
-    if (f.gain) s.gain_ = ExposureGain(options.seed, options.frames / 30.0 + 1.0);
+    s.fast_path_.emplace(fast.max_rotation_deg_s);
+    if (fast.gain) s.gain_ = ExposureGain(options.seed, options.frames / 30.0 + 1.0);
   }
   return s;
 }

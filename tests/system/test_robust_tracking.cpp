@@ -21,20 +21,24 @@ struct Sequence {
   std::vector<synth::RenderedFrame> frames;
 };
 
+Sequence render(synth::SceneKind kind, const synth::SceneOptions& o) {
+  Sequence s{synth::makeScene(kind, o), {}};
+  s.frames.resize(o.frames);
+  std::vector<std::thread> workers;
+  for (int t = 0; t < 2; ++t)
+    workers.emplace_back([&s, t, n = o.frames] {
+      for (int i = t; i < n; i += 2) s.frames[i] = synth::render(s.scene, i);
+    });
+  for (auto& w : workers) w.join();
+  return s;
+}
+
 Sequence render(synth::SceneKind kind, int frames, int width, int height) {
   synth::SceneOptions o;
   o.width = width;
   o.height = height;
   o.frames = frames;
-  Sequence s{synth::makeScene(kind, o), {}};
-  s.frames.resize(frames);
-  std::vector<std::thread> workers;
-  for (int t = 0; t < 2; ++t)
-    workers.emplace_back([&s, t, frames] {
-      for (int i = t; i < frames; i += 2) s.frames[i] = synth::render(s.scene, i);
-    });
-  for (auto& w : workers) w.join();
-  return s;
+  return render(kind, o);
 }
 
 SystemOptions sequentialNoLoop() {
@@ -189,14 +193,7 @@ Fed runFastScene(double max_rotation_deg_s, int frames, double* ate) {
   o.height = 240;
   o.frames = frames;
   o.fast.max_rotation_deg_s = max_rotation_deg_s;
-  Sequence seq{synth::makeScene(synth::SceneKind::kFast, o), {}};
-  seq.frames.resize(frames);
-  std::vector<std::thread> workers;
-  for (int t = 0; t < 2; ++t)
-    workers.emplace_back([&seq, t, frames] {
-      for (int i = t; i < frames; i += 2) seq.frames[i] = synth::render(seq.scene, i);
-    });
-  for (auto& w : workers) w.join();
+  const Sequence seq = render(synth::SceneKind::kFast, o);
   const Fed fed = feed(seq, range(0, frames), sequentialNoLoop());
   Trajectory truth, estimate;
   for (size_t k = 0; k < fed.results.size(); ++k)
