@@ -279,7 +279,7 @@ TEST(DenseMaps, GridMatchesTheWallsAndFurnitureAndReadsBack) {
   DenseSelection grid_only;
   grid_only.pcd = grid_only.ply = grid_only.octomap = grid_only.semantic_octomap = false;
   const std::vector<WrittenFile> files = writeDenseProducts(dir, p, grid_only, o.dense);
-  ASSERT_EQ(files.size(), 3u);  // grid.pgm, grid.yaml, dense_products.json
+  ASSERT_EQ(files.size(), 4u);  // map_frame.yaml, grid.pgm, grid.yaml, dense_products.json
   const OccupancyGrid back = readGrid(dir + "/grid.yaml");
   EXPECT_EQ(back.width, p.grid.width);
   EXPECT_EQ(back.height, p.grid.height);
