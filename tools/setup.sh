@@ -5,6 +5,8 @@
 #
 #   PLSLAM_BUILD_DIR   build folder (default: build)
 #   PLSLAM_BUILD_TYPE  CMake build type (default: Release)
+#   PLSLAM_ROS=0       leave out the ROS 1 packages (bag input, the plslam_ros node and their
+#                      tests are then not built; everything else is)
 set -euo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -17,6 +19,17 @@ packages=(
   libpcl-dev liboctomap-dev libapriltag-dev libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev  # libFuzzer and clang's sanitizer runtimes (fuzz/, CMakePresets.json `fuzz`)
 )
+# ROS 1 (Debian's Noetic-era packages): bag input, the plslam_ros node, rosmaster for its tests,
+# roslaunch for tools/ros/*.launch, rosservice/rostopic/rosnode to talk to the node.
+# 114 packages, 45 MB installed (docs/RESULTS.md).
+if [ "${PLSLAM_ROS:-1}" != 0 ]; then
+  packages+=(
+    libroscpp-dev librosbag-dev libtf2-ros-dev libmessage-filters-dev
+    libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev libvisualization-msgs-dev
+    libdiagnostic-msgs-dev libstd-srvs-dev python3-rosmaster python3-roslaunch
+    python3-rosservice python3-rostopic python3-rosnode python3-std-srvs
+  )
+fi
 
 missing=()
 for p in "${packages[@]}"; do

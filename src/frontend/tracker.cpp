@@ -6,6 +6,7 @@
 #include <set>
 #include <unordered_set>
 
+#include "core/error.h"
 #include "core/log.h"
 #include "features/matching.h"
 #include "frontend/frame_refinement.h"
@@ -28,13 +29,50 @@ const char* toString(TrackingStatus s) {
   return "unknown";
 }
 
-Tracker::Tracker(Map* map, PinholeCamera camera, TrackerOptions options)
-    : map_(map), camera_(std::move(camera)), options_(options), optimizer_(options.optimizer) {
+const char* toString(TrackingMethod m) {
+  switch (m) {
+    case TrackingMethod::kNone: return "none";
+    case TrackingMethod::kInitialisation: return "initialisation";
+    case TrackingMethod::kMotionModel: return "motion_model";
+    case TrackingMethod::kReferenceKeyframe: return "reference_keyframe";
+    case TrackingMethod::kWideWindow: return "wide_window";
+    case TrackingMethod::kRelocalisation: return "relocalisation";
+  }
+  return "unknown";
+}
+
+void TrackerOptions::validate() const {
+  auto require = [](bool ok, const char* key, const std::string& range, double value) {
+    if (!ok) throw ConfigError(str("tracker.", key, " must be ", range, " (got ", value, ")"));
+  };
+  require(min_inliers >= 1, "min_inliers", ">= 1", min_inliers);
+  require(wide_radius_px > 0 && narrow_radius_px > 0, "wide_radius_px and narrow_radius_px", "> 0",
+          std::min(wide_radius_px, narrow_radius_px));
+  require(wide_fallback_factor >= 0, "wide_fallback_factor", ">= 0 (<= 1 turns it off)", wide_fallback_factor);
+  require(min_pnp_points >= 4, "min_pnp_points", ">= 4 (PnP needs four points)", min_pnp_points);
+  require(pnp_iterations >= 1, "pnp_iterations", ">= 1", pnp_iterations);
+  require(pnp_error_px > 0, "pnp_error_px", "> 0", pnp_error_px);
+  require(relocalisation.max_candidates >= 1, "relocalisation_candidates", ">= 1", relocalisation.max_candidates);
+  require(relocalisation.min_relative_score >= 0 && relocalisation.min_relative_score <= 1,
+          "relocalisation_min_relative_score", "in [0, 1]", relocalisation.min_relative_score);
+  require(relocalisation_recent_keyframes >= 1, "relocalisation_recent_keyframes", ">= 1", relocalisation_recent_keyframes);
+  require(near_plane_m > 0, "near_plane_m", "> 0", near_plane_m);
+  require(max_speed_m_s > 0, "max_speed_m_s", "> 0", max_speed_m_s);
+}
+
+Tracker::Tracker(Map* map, PinholeCamera camera, TrackerOptions options, std::shared_ptr<const VocabularySet> vocabulary)
+    : map_(map),
+      camera_(std::move(camera)),
+      options_(options),
+      optimizer_(options.optimizer),
+      places_(std::move(vocabulary)) {
+  options_.validate();
   std::lock_guard<std::mutex> lock(map_->mutex());
   if (!map_->keyframes().empty()) {
     // A loaded map: start lost, so the first frame is placed by relocalisation in it.
     have_last_ = lost_ = search_all_keyframes_ = true;
     reference_kf_ = map_->keyframes().begin()->first;
+    for (const auto& [id, kf] : map_->keyframes()) places_.add(id, kf.features);
   }
 }
 
@@ -46,6 +84,7 @@ TrackingResult Tracker::track(TimeNs t_ns, const FrameFeatures& f) {
   }
   if (!have_last_) return initialise(t_ns, f);
   times_ = StageTimes();
+  have_frame_words_ = false;
   TrackingResult r = trackInitialised(t_ns, f);
   r.times = times_;
   return r;
@@ -58,32 +97,21 @@ TrackingResult Tracker::trackInitialised(TimeNs t_ns, const FrameFeatures& f) {
     r.reason = str(f.points.size(), " points and ", f.lines.size(), " lines in the image");
   }
   Matches m;
-  SE3 T_w_c;
-  bool ok = false;
+  Attempt a;
   if (r.reason.empty()) {
     if (!lost_) {
-      T_w_c = have_velocity_ ? T_w_last_ * velocity_ : T_w_last_;
-      const LocalMap local = takeLocalMap();
-      searchLocalMap(local, T_w_c, f, options_.wide_radius_px, &m, false);
-      PoseOnlyResult pr = optimise(T_w_c, f, &m);
-      if (pr.converged) {
-        T_w_c = pr.T_w_c;
-        searchLocalMap(local, T_w_c, f, options_.narrow_radius_px, &m, true);
-        pr = optimise(T_w_c, f, &m);
-        if (pr.converged) {
-          T_w_c = pr.T_w_c;
-          ok = pr.inliers >= options_.min_inliers;
-        }
-      }
-      r.inliers = pr.inliers;
-      if (!ok) r.reason = str("tracking: ", pr.inliers, " pose inliers (", toString(pr.status), ")");
+      a = trackFromLastPose(nsToSeconds(t_ns - t_last_ns_), f, &m, &r);
     } else {
-      ok = relocalise(f, &T_w_c, &m);
-      if (!ok) r.reason = "relocalisation failed";
+      a = relocalise(f, &m);
+      if (a.ok) r.method = TrackingMethod::kRelocalisation;
     }
-    r.status = ok ? (lost_ ? TrackingStatus::kRelocalized : TrackingStatus::kOk) : TrackingStatus::kFewMatches;
+    if (!a.ok) r.reason = a.reason;
+    r.status = a.ok ? (lost_ ? TrackingStatus::kRelocalized : TrackingStatus::kOk) : TrackingStatus::kFewMatches;
   }
+  const bool ok = a.ok;
+  const SE3 T_w_c = a.T_w_c;
   if (!ok) {
+    r.method = TrackingMethod::kNone;
     if (!lost_) {
       ++lost_events_;
       kLog.warn(str("lost at t=", formatSecondsStamp(t_ns), ": ", r.reason));
@@ -100,12 +128,7 @@ TrackingResult Tracker::trackInitialised(TimeNs t_ns, const FrameFeatures& f) {
   lost_ = false;
   search_all_keyframes_ = false;
   if (!options_.localization_only) {
-    // Landmarks predicted in view were counted as visible in the search; these were found.
-    std::lock_guard<std::mutex> lock(map_->mutex());
-    for (Id id : m.point_ids)
-      if (MapPoint* p = id == kNoId ? nullptr : map_->point(id)) ++p->found, ++r.matched_points;
-    for (Id id : m.line_ids)
-      if (MapLine* l = id == kNoId ? nullptr : map_->line(id)) ++l->found, ++r.matched_lines;
+    countVisibleAndFound(m, &r);
   } else {
     r.matched_points = static_cast<int>(m.point_ids.size() - std::count(m.point_ids.begin(), m.point_ids.end(), kNoId));
     r.matched_lines = static_cast<int>(m.line_ids.size() - std::count(m.line_ids.begin(), m.line_ids.end(), kNoId));
@@ -121,6 +144,7 @@ TrackingResult Tracker::trackInitialised(TimeNs t_ns, const FrameFeatures& f) {
   velocity_ = T_w_last_.inverse() * T_w_c;
   have_velocity_ = !relocalised;  // the last pose before the loss says nothing of the motion now
   T_w_last_ = T_w_c;
+  t_last_ns_ = t_ns;
   ++frames_since_kf_;
   const StageTimer keyframe_timer(&times_, Stage::kKeyframe);
   if (!options_.localization_only && needKeyframe(T_w_c, r.inliers)) {
@@ -129,6 +153,171 @@ TrackingResult Tracker::trackInitialised(TimeNs t_ns, const FrameFeatures& f) {
   }
   r.reference_keyframe = reference_kf_;
   return r;
+}
+
+Tracker::Attempt Tracker::trackFromLastPose(double dt_s, const FrameFeatures& f, Matches* m, TrackingResult* r) {
+  const SE3 predicted = have_velocity_ ? T_w_last_ * velocity_ : T_w_last_;
+  const LocalMap local = takeLocalMap();
+  // Each way in turn; a pose that would need an impossible speed is a wrong one (a few
+  // matches on a blurred frame can agree on it) and counts as a failure.
+  auto plausible = [&](Attempt a) {
+    const double jump_m = (T_w_last_.inverse() * a.T_w_c).translation().norm();
+    if (a.ok && dt_s > 0 && jump_m > options_.max_speed_m_s * dt_s)
+      a = {false, a.T_w_c, a.inliers, str("a jump of ", jump_m, " m in ", dt_s, " s")};
+    return a;
+  };
+  Attempt a = plausible(trackWithPrediction(local, predicted, options_.wide_radius_px, f, m));
+  r->inliers = a.inliers;
+  if (a.ok) {
+    r->method = TrackingMethod::kMotionModel;
+    return a;
+  }
+  const std::string motion_failure = a.reason;
+  std::string why = "motion model: " + motion_failure;
+  if (options_.reference_fallback) {
+    a = plausible(trackReferenceKeyframe(local, predicted, f, m));
+    if (a.ok) r->method = TrackingMethod::kReferenceKeyframe;
+    else why += "; reference keyframe: " + a.reason;
+  }
+  if (!a.ok && options_.wide_fallback_factor > 1) {
+    a = plausible(trackWithPrediction(local, predicted, options_.wide_radius_px * options_.wide_fallback_factor, f, m));
+    if (a.ok) r->method = TrackingMethod::kWideWindow;
+    else why += "; wide window: " + a.reason;
+  }
+  if (a.ok) {
+    r->inliers = a.inliers;
+    if (kLog.enabled(LogLevel::kDebug)) kLog.debug(str("motion model failed (", motion_failure, "), ", toString(r->method), " tracked"));
+  } else {
+    a.reason = "tracking: " + why;
+  }
+  return a;
+}
+
+Tracker::Attempt Tracker::trackWithPrediction(const LocalMap& local, const SE3& T_w_c, double radius,
+                                              const FrameFeatures& f, Matches* m) {
+  *m = Matches();
+  searchLocalMap(local, T_w_c, f, radius, m, false);
+  return refineWithLocalMap(local, T_w_c, f, m, options_.min_inliers);
+}
+
+Tracker::Attempt Tracker::refineWithLocalMap(const LocalMap& local, const SE3& T_w_c, const FrameFeatures& f, Matches* m,
+                                             int min_inliers) {
+  Attempt a;
+  PoseOnlyResult pr = optimise(T_w_c, f, m);
+  if (pr.converged) {
+    searchLocalMap(local, pr.T_w_c, f, options_.narrow_radius_px, m, true);
+    pr = optimise(pr.T_w_c, f, m);
+    a.ok = pr.converged && pr.inliers >= min_inliers;
+  }
+  a.T_w_c = pr.T_w_c;
+  a.inliers = pr.inliers;
+  if (!a.ok) a.reason = str(pr.inliers, " pose inliers (", toString(pr.status), ")");
+  return a;
+}
+
+Tracker::Attempt Tracker::trackReferenceKeyframe(const LocalMap& local, const SE3& predicted, const FrameFeatures& f,
+                                                 Matches* m) {
+  Attempt a;
+  {
+    const StageTimer timer(&times_, Stage::kSearch);
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    *m = matchKeyframe(reference_kf_, f);
+  }
+  const auto matched = [](const std::vector<Id>& ids) { return static_cast<int>(ids.size() - std::count(ids.begin(), ids.end(), kNoId)); };
+  const int n = matched(m->point_ids) + matched(m->line_ids);
+  if (n < options_.min_vocabulary_matches) {
+    a.reason = str(n, " vocabulary matches");
+    return a;
+  }
+  // PnP does not need the prediction, so it survives any rotation; lines alone start from it.
+  SE3 start = predicted;
+  if (matched(m->point_ids) >= options_.min_pnp_points) poseByPnP(f, m, &start);
+  return refineWithLocalMap(local, start, f, m, options_.min_inliers);
+}
+
+Tracker::Matches Tracker::matchKeyframe(Id kf_id, const FrameFeatures& f) {
+  Matches m;
+  m.point_ids.assign(f.points.size(), kNoId);
+  m.line_ids.assign(f.lines.size(), kNoId);
+  const KeyFrame* kf = map_->keyframe(kf_id);
+  if (!kf) return m;
+  BruteForceOptions points{options_.max_descriptor_distance, options_.ratio, true};
+  BruteForceOptions lines{options_.max_line_descriptor_distance, options_.ratio, true};
+  std::vector<DescriptorMatch> pm, lm;
+  if (const FrameWords* kw = keyframeWords(kf_id)) {
+    // Only the keyframe's features that observe a landmark take part.
+    std::vector<int> kp_nodes = kw->point_nodes, kl_nodes = kw->line_nodes;
+    for (size_t i = 0; i < kp_nodes.size(); ++i)
+      if (kf->point_ids[i] == kNoId || !map_->point(kf->point_ids[i])) kp_nodes[i] = -1;
+    for (size_t i = 0; i < kl_nodes.size(); ++i)
+      if (kf->line_ids[i] == kNoId || !map_->line(kf->line_ids[i])) kl_nodes[i] = -1;
+    const FrameWords& fw = frameWords(f);
+    pm = matchByVocabulary(kf->features.point_descriptors, kp_nodes, f.point_descriptors, fw.point_nodes, points);
+    if (options_.use_lines)
+      lm = matchByVocabulary(kf->features.line_descriptors, kl_nodes, f.line_descriptors, fw.line_nodes, lines);
+  } else {
+    pm = matchBruteForce(kf->features.point_descriptors, f.point_descriptors, points);
+    if (options_.use_lines) lm = matchBruteForce(kf->features.line_descriptors, f.line_descriptors, lines);
+  }
+  for (const DescriptorMatch& d : pm)
+    if (kf->point_ids[d.query] != kNoId && map_->point(kf->point_ids[d.query])) m.point_ids[d.train] = kf->point_ids[d.query];
+  for (const DescriptorMatch& d : lm)
+    if (kf->line_ids[d.query] != kNoId && map_->line(kf->line_ids[d.query])) m.line_ids[d.train] = kf->line_ids[d.query];
+  return m;
+}
+
+bool Tracker::poseByPnP(const FrameFeatures& f, Matches* m, SE3* T_w_c) {
+  std::vector<cv::Point3f> object;
+  std::vector<cv::Point2f> image;
+  std::vector<int> keypoint;
+  {
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    for (size_t k = 0; k < m->point_ids.size(); ++k) {
+      const MapPoint* p = m->point_ids[k] == kNoId ? nullptr : map_->point(m->point_ids[k]);
+      if (!p) continue;
+      object.emplace_back(p->p_w.x(), p->p_w.y(), p->p_w.z());
+      image.emplace_back(f.points[k].uv.x(), f.points[k].uv.y());
+      keypoint.push_back(static_cast<int>(k));
+    }
+  }
+  if (static_cast<int>(object.size()) < options_.min_pnp_points) return false;
+  const StageTimer timer(&times_, Stage::kPoseOptimisation);
+  cv::Mat rvec, tvec;
+  std::vector<int> inliers;
+  // K may hold a negative fx or fy (camera/pinhole_camera.h): OpenCV's EPnP, RANSAC
+  // reprojection test and refinement keep the sign (tests/system/test_mirrored_camera.cpp
+  // relocalises with fy < 0).
+  if (!cv::solvePnPRansac(object, image, cv::Mat(camera_.K()), cv::noArray(), rvec, tvec, false, options_.pnp_iterations,
+                          static_cast<float>(options_.pnp_error_px), 0.99, inliers, cv::SOLVEPNP_EPNP) ||
+      static_cast<int>(inliers.size()) < options_.min_pnp_points)
+    return false;
+  cv::Mat R;
+  cv::Rodrigues(rvec, R);
+  Eigen::Matrix3d Re;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) Re(r, c) = R.at<double>(r, c);
+  *T_w_c = SE3(Re, Eigen::Vector3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2))).inverse();
+  std::vector<Id> kept(m->point_ids.size(), kNoId);
+  for (int i : inliers) kept[keypoint[i]] = m->point_ids[keypoint[i]];
+  m->point_ids = std::move(kept);
+  return true;
+}
+
+const FrameWords* Tracker::keyframeWords(Id kf) {
+  if (!places_.enabled()) return nullptr;
+  if (const FrameWords* w = places_.words(kf)) return w;
+  const KeyFrame* k = map_->keyframe(kf);
+  if (!k) return nullptr;
+  places_.add(kf, k->features);  // a loaded map's keyframe, or one made before the index
+  return places_.words(kf);
+}
+
+const FrameWords& Tracker::frameWords(const FrameFeatures& f) {
+  if (!have_frame_words_) {
+    frame_words_ = places_.describe(f);
+    have_frame_words_ = true;
+  }
+  return frame_words_;
 }
 
 TrackingResult Tracker::initialise(TimeNs t_ns, const FrameFeatures& f) {
@@ -149,17 +338,19 @@ TrackingResult Tracker::initialise(TimeNs t_ns, const FrameFeatures& f) {
   r.new_keyframe = true;
   r.reference_keyframe = reference_kf_;
   r.status = TrackingStatus::kInitialized;
+  r.method = TrackingMethod::kInitialisation;
   r.T_w_c = T_w_c;
   r.inliers = with_depth;
   have_last_ = true;
   T_w_last_ = T_w_c;
+  t_last_ns_ = t_ns;
   kLog.info(str("initialised at t=", formatSecondsStamp(t_ns), " with ", with_depth, " points"));
   return r;
 }
 
 const std::vector<std::pair<Id, int>>& Tracker::referenceCovisible() {
   if (covisible_of_ != reference_kf_) {
-    covisible_ = map_->covisible(reference_kf_, 15);
+    covisible_ = map_->covisible(reference_kf_, options_.covisible_min_shared);
     covisible_of_ = reference_kf_;
   }
   return covisible_;
@@ -224,16 +415,13 @@ Tracker::LocalMap Tracker::takeLocalMap() {
   return collectLocalMap();
 }
 
-void Tracker::searchLocalMap(const SE3& T_w_c, const FrameFeatures& f, double radius, Matches* m, bool count_visible) {
-  searchLocalMap(takeLocalMap(), T_w_c, f, radius, m, count_visible);
-}
-
 void Tracker::searchLocalMap(const LocalMap& local, const SE3& T_w_c, const FrameFeatures& f, double radius, Matches* m,
-                             bool count_visible) {
+                             bool record_visible) {
   const StageTimer timer(&times_, Stage::kSearch);
   std::lock_guard<std::mutex> lock(map_->mutex());
   if (m->point_ids.size() != f.points.size()) m->point_ids.assign(f.points.size(), kNoId);
   if (m->line_ids.size() != f.lines.size()) m->line_ids.assign(f.lines.size(), kNoId);
+  if (record_visible) m->visible_points.clear(), m->visible_lines.clear();
   const std::vector<Id>& point_ids = local.point_ids;
   const std::vector<Id>& line_ids = local.line_ids;
   const SE3 T_c_w = T_w_c.inverse();
@@ -250,10 +438,10 @@ void Tracker::searchLocalMap(const LocalMap& local, const SE3& T_w_c, const Fram
     MapPoint* p = map_->point(id);
     if (!p) continue;  // culled by the mapper since the local map was taken
     const Eigen::Vector3d p_c = T_c_w * p->p_w;
-    if (p_c.z() < 0.1) continue;
+    if (p_c.z() < options_.near_plane_m) continue;
     const Eigen::Vector2d uv = camera_.projectIdeal(p_c);
     if (!camera_.inImage(uv)) continue;
-    if (count_visible && !options_.localization_only) ++p->visible;
+    if (record_visible) m->visible_points.push_back(id);
     if (matched_points.count(id)) continue;
     predicted_ids.push_back(id);
     predictions.push_back({uv, -1});
@@ -291,13 +479,14 @@ void Tracker::searchLocalMap(const LocalMap& local, const SE3& T_w_c, const Fram
     MapLine* l = map_->line(id);
     if (!l) continue;
     Eigen::Vector3d P = T_c_w * l->P_w, Q = T_c_w * l->Q_w;
-    if (P.z() < 0.1 && Q.z() < 0.1) continue;
+    const double near = options_.near_plane_m;
+    if (P.z() < near && Q.z() < near) continue;
     // Clip the part behind the camera so the projection stays meaningful.
-    if (P.z() < 0.1) P = Q + (P - Q) * ((Q.z() - 0.1) / (Q.z() - P.z()));
-    if (Q.z() < 0.1) Q = P + (Q - P) * ((P.z() - 0.1) / (P.z() - Q.z()));
+    if (P.z() < near) P = Q + (P - Q) * ((Q.z() - near) / (Q.z() - P.z()));
+    if (Q.z() < near) Q = P + (Q - P) * ((P.z() - near) / (P.z() - Q.z()));
     const Eigen::Vector2d p = camera_.projectIdeal(P), q = camera_.projectIdeal(Q);
     if (!camera_.inImage(p) && !camera_.inImage(q) && !camera_.inImage(0.5 * (p + q))) continue;
-    if (count_visible && !options_.localization_only) ++l->visible;
+    if (record_visible) m->visible_lines.push_back(id);
     if (matched_lines.count(id)) continue;
     line_pred_ids.push_back(id);
     line_preds.push_back(LineSegment2D::fromEndpoints(p, q));
@@ -312,6 +501,18 @@ void Tracker::searchLocalMap(const LocalMap& local, const SE3& T_w_c, const Fram
   for (const DescriptorMatch& dm :
        matchLinesByProjection(line_preds, line_pred_desc, segments, f.line_descriptors, lo, line_taken))
     m->line_ids[dm.train] = line_pred_ids[dm.query];
+}
+
+void Tracker::countVisibleAndFound(const Matches& m, TrackingResult* r) {
+  std::lock_guard<std::mutex> lock(map_->mutex());
+  for (Id id : m.visible_points)
+    if (MapPoint* p = map_->point(id)) ++p->visible;
+  for (Id id : m.visible_lines)
+    if (MapLine* l = map_->line(id)) ++l->visible;
+  for (Id id : m.point_ids)
+    if (MapPoint* p = id == kNoId ? nullptr : map_->point(id)) ++p->found, ++r->matched_points;
+  for (Id id : m.line_ids)
+    if (MapLine* l = id == kNoId ? nullptr : map_->line(id)) ++l->found, ++r->matched_lines;
 }
 
 PoseOnlyResult Tracker::optimise(const SE3& T_w_c, const FrameFeatures& f, Matches* m) {
@@ -333,83 +534,52 @@ PoseOnlyResult Tracker::optimise(const SE3& T_w_c, const FrameFeatures& f, Match
   return r;
 }
 
-bool Tracker::relocalise(const FrameFeatures& f, SE3* T_w_c, Matches* m) {
-  if (f.points.size() < 30) return false;
-  // Descriptor matches of the frame with candidate keyframes' map points: the 8 most
-  // recent keyframes, or every keyframe (most matches first) in a loaded map.
-  struct Candidate {
-    Id kf;
-    std::vector<cv::Point3f> object;
-    std::vector<cv::Point2f> image;
-    std::vector<std::pair<int, Id>> pairs;  // (keypoint index, map point)
-  };
-  std::vector<Candidate> candidates;
-  const bool all = search_all_keyframes_ || options_.localization_only;
-  {
-    std::lock_guard<std::mutex> lock(map_->mutex());
-    const auto& kfs = map_->keyframes();
-    int n = 0;
-    for (auto it = kfs.rbegin(); it != kfs.rend() && (all || n < 8); ++it, ++n) {
-      const KeyFrame& k = it->second;
-      Candidate c{it->first, {}, {}, {}};
-      BruteForceOptions bo;
-      bo.max_distance = options_.max_descriptor_distance;
-      bo.ratio = options_.ratio;
-      for (const DescriptorMatch& dm : matchBruteForce(k.features.point_descriptors, f.point_descriptors, bo)) {
-        if (k.point_ids[dm.query] == kNoId) continue;
-        const MapPoint* p = map_->point(k.point_ids[dm.query]);
-        if (!p) continue;
-        c.object.emplace_back(p->p_w.x(), p->p_w.y(), p->p_w.z());
-        c.image.emplace_back(f.points[dm.train].uv.x(), f.points[dm.train].uv.y());
-        c.pairs.emplace_back(dm.train, p->id);
-      }
-      candidates.push_back(std::move(c));
+Tracker::Attempt Tracker::relocalise(const FrameFeatures& f, Matches* m) {
+  Attempt a;
+  a.reason = "relocalisation failed: no keyframe matched";
+  for (Id kf : relocalisationCandidates(f)) {
+    {
+      const StageTimer timer(&times_, Stage::kSearch);
+      std::lock_guard<std::mutex> lock(map_->mutex());
+      *m = matchKeyframe(kf, f);
     }
-  }
-  if (all)
-    std::stable_sort(candidates.begin(), candidates.end(),
-                     [](const Candidate& a, const Candidate& b) { return a.object.size() > b.object.size(); });
-  for (const Candidate& cand : candidates) {
-    const Id kf = cand.kf;
-    const std::vector<cv::Point3f>& object = cand.object;
-    const std::vector<cv::Point2f>& image = cand.image;
-    const std::vector<std::pair<int, Id>>& pairs = cand.pairs;
-    if (object.size() < 30) continue;
-    cv::Mat rvec, tvec;
-    std::vector<int> inliers;
-    // K may hold a negative fx or fy (camera/pinhole_camera.h): OpenCV's EPnP, RANSAC
-    // reprojection test and refinement keep the sign (tests/system/test_mirrored_camera.cpp
-    // relocalises with fy < 0).
-    if (!cv::solvePnPRansac(object, image, cv::Mat(camera_.K()), cv::noArray(), rvec, tvec, false, 200, 4.0f, 0.99,
-                            inliers, cv::SOLVEPNP_EPNP) ||
-        inliers.size() < 30)
-      continue;
-    cv::Mat R;
-    cv::Rodrigues(rvec, R);
-    Eigen::Matrix3d Re;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) Re(r, c) = R.at<double>(r, c);
-    const SE3 T_c_w(Re, Eigen::Vector3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2)));
-    Matches mm;
-    mm.point_ids.assign(f.points.size(), kNoId);
-    mm.line_ids.assign(f.lines.size(), kNoId);
-    for (int i : inliers) mm.point_ids[pairs[i].first] = pairs[i].second;
-    PoseOnlyResult pr = optimise(T_c_w.inverse(), f, &mm);
-    if (!pr.converged) continue;
-    if (all) reference_kf_ = kf;  // the local map around this keyframe, not around a stale reference
-    searchLocalMap(pr.T_w_c, f, options_.narrow_radius_px, &mm, true);
-    pr = optimise(pr.T_w_c, f, &mm);
-    if (!pr.converged || pr.inliers < options_.min_inliers * 2) continue;
-    *T_w_c = pr.T_w_c;
-    *m = std::move(mm);
+    SE3 start;
+    if (!poseByPnP(f, m, &start)) continue;
+    // The local map around the candidate, not around a reference from before the loss.
+    const Id before = reference_kf_;
     reference_kf_ = kf;
-    return true;
+    const Attempt refined = refineWithLocalMap(takeLocalMap(), start, f, m, options_.relocalisation_min_inliers);
+    if (refined.ok) return refined;
+    reference_kf_ = before;
+    a.reason = str("relocalisation failed: best candidate ", refined.reason);
   }
-  return false;
+  return a;
+}
+
+std::vector<Id> Tracker::relocalisationCandidates(const FrameFeatures& f) {
+  std::vector<Id> out;
+  if (f.points.size() < static_cast<size_t>(options_.min_pnp_points)) return out;
+  if (places_.enabled()) {
+    const FrameWords& words = frameWords(f);
+    std::lock_guard<std::mutex> lock(map_->mutex());
+    for (const PlaceScore& s : places_.query(words, options_.relocalisation))
+      if (map_->keyframe(s.keyframe)) out.push_back(s.keyframe);
+    return out;
+  }
+  // No vocabulary: the most recent keyframes (every one of a loaded map, not tracked yet).
+  const bool all = search_all_keyframes_ || options_.localization_only;
+  std::lock_guard<std::mutex> lock(map_->mutex());
+  const auto& kfs = map_->keyframes();
+  for (auto it = kfs.rbegin(); it != kfs.rend() && (all || static_cast<int>(out.size()) < options_.relocalisation_recent_keyframes); ++it)
+    out.push_back(it->first);
+  return out;
 }
 
 bool Tracker::needKeyframe(const SE3& T_w_c, int inliers) const {
   if (frames_since_kf_ < options_.keyframe_min_frames) return false;
+  // A weakly supported pose (a blurred frame held by a few matches) would seed the map with
+  // landmarks placed by that pose: wait for a frame that is tracked firmly.
+  if (inliers < options_.keyframe_min_support) return false;
   if (frames_since_kf_ >= options_.keyframe_max_frames) return true;
   if (inliers < options_.keyframe_min_inliers) return true;
   if (inliers < options_.keyframe_inlier_ratio * reference_kf_landmarks_) return true;
@@ -450,6 +620,7 @@ Id Tracker::makeKeyframe(TimeNs t_ns, const SE3& T_w_c, const FrameFeatures& f, 
     map_->addPointObservation(id, static_cast<int>(i), pid);
     ++created;
   }
+  places_.add(id, f);
   reference_kf_ = id;
   // What later frames are compared with: the landmarks this keyframe was tracked with
   // (the first keyframe has only the ones it created).

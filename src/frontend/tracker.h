@@ -4,11 +4,21 @@
 // pose is predicted with a constant-velocity model, map points and lines of the local
 // keyframes are projected and matched in a wide window, the pose is optimised (points
 // with depth and lines, robust), then matched again in a narrow window and re-optimised.
-// When too few inliers remain the frame is lost and relocalisation (descriptor matching
-// against recent keyframes + PnP RANSAC) is tried on the following frames.
+// When that leaves too few inliers (fast motion breaks the constant-velocity model, blur
+// removes corners) two fallbacks run before the frame is declared lost, as in ORB-SLAM2:
+//  1. the reference keyframe: its landmarks matched to the frame through the vocabulary
+//     (points and lines, place/vocabulary_matching.h), a pose from PnP RANSAC on the
+//     points (or from the prediction when lines must carry the frame), then the local map;
+//  2. the motion-model prediction searched in a wider window.
+// A lost frame is relocalised by place recognition over the whole map: the keyframes
+// whose bags of words look most like the frame (place/keyframe_places.h), each matched
+// through the vocabulary, PnP RANSAC, refinement with points and lines, and verification
+// by projecting the local map around it. Without a vocabulary the same steps use brute-force
+// matching against the most recent keyframes (every keyframe of a loaded map).
 //
 // Thread safety: one Tracker per pipeline, called from one thread; it locks the map's
-// mutex while it reads landmarks.
+// mutex while it reads landmarks. applyMapCorrection is called by the loop closer's thread
+// while the system holds its tracking mutex, so never during track().
 #pragma once
 
 #include <functional>
@@ -21,6 +31,7 @@
 #include "core/map.h"
 #include "core/profile.h"
 #include "optim/pose_optimizer.h"
+#include "place/keyframe_places.h"
 
 namespace plslam {
 
@@ -33,6 +44,18 @@ enum class TrackingStatus {
   kNoFeatures,     ///< no (or too few) features in the image: lost
 };
 const char* toString(TrackingStatus status);
+
+/// How a tracked frame got its pose.
+enum class TrackingMethod {
+  kNone,               ///< not tracked
+  kInitialisation,     ///< the first keyframe
+  kMotionModel,        ///< constant-velocity prediction, projection search
+  kReferenceKeyframe,  ///< fallback 1: vocabulary matches with the reference keyframe
+  kWideWindow,         ///< fallback 2: the prediction searched in a wider window
+  kRelocalisation,     ///< place recognition after a loss
+};
+constexpr int kTrackingMethodCount = 6;
+const char* toString(TrackingMethod method);
 inline bool isTracked(TrackingStatus s) {
   return s == TrackingStatus::kInitialized || s == TrackingStatus::kOk || s == TrackingStatus::kRelocalized;
 }
@@ -49,17 +72,35 @@ struct TrackerOptions {
   double line_angle_deg = 8.0;       ///< max angle between a projected map line and a segment
   double line_distance_px = 8.0;     ///< max distance of a segment's endpoints to the projected line
   int local_keyframes = 12;          ///< keyframes whose landmarks form the local map
+  int covisible_min_shared = 15;     ///< keyframes sharing this many points with the reference are its covisible ones
+  double near_plane_m = 0.1;         ///< landmarks closer to the camera than this are not projected
   int keyframe_max_frames = 20;      ///< a keyframe at least this often (frames)
   int keyframe_min_frames = 2;       ///< and never more often than this
   double keyframe_inlier_ratio = 0.75;  ///< new keyframe when inliers < ratio * reference keyframe's landmarks
   int keyframe_min_inliers = 120;    ///< or when fewer inliers than this remain
+  int keyframe_min_support = 40;     ///< but never from a frame with fewer inliers than this (its pose is weak)
   double keyframe_max_translation_m = 0.15;  ///< or when the camera moved this far from the reference keyframe
   double keyframe_max_rotation_deg = 12.0;   ///< or turned this much
   bool use_lines = true;             ///< use line features
+  /// A pose that moved the camera faster than this since the last tracked frame is refused
+  /// (hand-held cameras stay under about 2 m/s, a TurtleBot3 under 0.26 m/s).
+  double max_speed_m_s = 4.0;
+  bool reference_fallback = true;    ///< when the motion model fails: match the reference keyframe through the vocabulary
+  double wide_fallback_factor = 3.0; ///< then search the prediction in a window this many times wider (<= 1: no)
+  int min_vocabulary_matches = 15;   ///< point + line matches a keyframe needs for a fallback or relocalisation attempt
+  int min_pnp_points = 12;           ///< point matches for PnP RANSAC (fewer: start from the prediction, lines carry)
+  int pnp_iterations = 200;          ///< PnP RANSAC iterations
+  double pnp_error_px = 4.0;         ///< PnP RANSAC reprojection threshold (px)
+  int relocalisation_min_inliers = 40;  ///< pose inliers (points + lines) that accept a relocalisation
+  int relocalisation_recent_keyframes = 8;  ///< without a vocabulary: the recent keyframes relocalisation tries
+  PlaceQueryOptions relocalisation;  ///< with a vocabulary: the keyframes relocalisation tries, over the whole map
   /// Track against the map without changing it (a loaded map): no keyframes, no landmark
   /// visible/found counts; relocalisation searches every keyframe.
   bool localization_only = false;
   PoseOptimizerOptions optimizer = trackingPoseOptions();  ///< pose-only optimisation
+
+  /// Throws ConfigError naming the first option out of its range (the tracker checks on construction).
+  void validate() const;
 
   /// Depth trusted like ORB-SLAM's virtual stereo pixel (sigma_z ~ z^2 / 40): a tighter
   /// sigma lets depth noise at corners and the colour/depth time offset drag the pose
@@ -74,7 +115,8 @@ struct TrackerOptions {
 /// What track() did with one frame.
 struct TrackingResult {
   TrackingStatus status = TrackingStatus::kNotInitialized;
-  std::string reason;         ///< why, when not tracked
+  TrackingMethod method = TrackingMethod::kNone;
+  std::string reason;         ///< why, when not tracked (or why the motion model failed before a fallback)
   SE3 T_w_c;                  ///< valid when tracked
   bool new_keyframe = false;  ///< a keyframe was made from this frame (id in keyframe_id)
   Id keyframe_id = kNoId;
@@ -91,7 +133,9 @@ class Tracker {
  public:
   /// When `map` already has keyframes (a loaded map), the first frame is relocalised in it,
   /// searching all its keyframes; otherwise the first usable frame initialises the map.
-  Tracker(Map* map, PinholeCamera camera, TrackerOptions options);
+  /// `vocabulary` (may be null) drives the reference-keyframe fallback and relocalisation.
+  Tracker(Map* map, PinholeCamera camera, TrackerOptions options,
+          std::shared_ptr<const VocabularySet> vocabulary = nullptr);
 
   /// Tracks one frame. `features` are in the frame's ideal pixels with depth filled in.
   /// On a new keyframe the keyframe is added to the map (with its matched landmarks)
@@ -115,33 +159,64 @@ class Tracker {
   const TrackerOptions& options() const { return options_; }
 
  private:
-  struct Matches {
-    std::vector<Id> point_ids;  // per keypoint
-    std::vector<Id> line_ids;   // per line
-  };
-  TrackingResult initialise(TimeNs t_ns, const FrameFeatures& f);
-  /// track() once the map exists: motion model or relocalisation, then the keyframe decision.
-  TrackingResult trackInitialised(TimeNs t_ns, const FrameFeatures& f);
-  std::vector<Id> localKeyframes();
-  /// The reference keyframe's covisible keyframes (>= 15 shared points), computed once per
-  /// reference: the count runs over every observation of its points, which grows with every
-  /// revisit of the place, while what changes it between keyframes (culling, BA outliers) is
-  /// rare. Caller holds the map lock.
-  const std::vector<std::pair<Id, int>>& referenceCovisible();
   /// The landmarks of the local keyframes, in first-seen order (caller holds the map lock).
   struct LocalMap {
     std::vector<Id> point_ids, line_ids;
   };
+  struct Matches {
+    std::vector<Id> point_ids;  // per keypoint
+    std::vector<Id> line_ids;   // per line
+    // Landmarks the narrow search predicted inside the image: counted as visible once the
+    // frame is tracked (a failed attempt counts nothing).
+    std::vector<Id> visible_points, visible_lines;
+  };
+  /// A pose attempt's outcome.
+  struct Attempt {
+    bool ok = false;
+    SE3 T_w_c;
+    int inliers = 0;
+    std::string reason;
+  };
+  TrackingResult initialise(TimeNs t_ns, const FrameFeatures& f);
+  /// track() once the map exists: motion model or relocalisation, then the keyframe decision.
+  TrackingResult trackInitialised(TimeNs t_ns, const FrameFeatures& f);
+  /// The motion model, then the fallbacks, `dt_s` after the last tracked frame; sets
+  /// r->method, r->inliers and r->reason.
+  Attempt trackFromLastPose(double dt_s, const FrameFeatures& f, Matches* m, TrackingResult* r);
+  /// Projection search of `local` around `T_w_c` in `radius`, then refineWithLocalMap.
+  Attempt trackWithPrediction(const LocalMap& local, const SE3& T_w_c, double radius, const FrameFeatures& f, Matches* m);
+  /// Fallback 1: the reference keyframe's landmarks matched through the vocabulary.
+  Attempt trackReferenceKeyframe(const LocalMap& local, const SE3& predicted, const FrameFeatures& f, Matches* m);
+  /// Optimise with the matches in `m`, search `local` in the narrow window, optimise again.
+  Attempt refineWithLocalMap(const LocalMap& local, const SE3& T_w_c, const FrameFeatures& f, Matches* m, int min_inliers);
+  /// Frame features matched with keyframe `kf`'s landmarks (caller holds the map lock):
+  /// through the vocabulary when there is one, else by brute force.
+  Matches matchKeyframe(Id kf, const FrameFeatures& f);
+  /// PnP RANSAC on the point matches; keeps only its inlier points in `m`. False with too few.
+  bool poseByPnP(const FrameFeatures& f, Matches* m, SE3* T_w_c);
+  /// Keyframes relocalisation tries, most promising first.
+  std::vector<Id> relocalisationCandidates(const FrameFeatures& f);
+  /// A stored keyframe's words (indexed on first use for a loaded map's keyframes).
+  const FrameWords* keyframeWords(Id kf);
+  /// The current frame's words, computed once per frame.
+  const FrameWords& frameWords(const FrameFeatures& f);
+  std::vector<Id> localKeyframes();
+  /// The reference keyframe's covisible keyframes (covisible_min_shared), computed once per
+  /// reference: the count runs over every observation of its points, which grows with every
+  /// revisit of the place, while what changes it between keyframes (culling, BA outliers) is
+  /// rare. Caller holds the map lock.
+  const std::vector<std::pair<Id, int>>& referenceCovisible();
   LocalMap collectLocalMap();
   /// collectLocalMap under the map lock, timed as search.
   LocalMap takeLocalMap();
   /// Projection search of `local` (taken once per frame: both passes search the same map).
+  /// `record_visible`: fill m->visible_* with the landmarks predicted in the image.
   void searchLocalMap(const LocalMap& local, const SE3& T_w_c, const FrameFeatures& f, double radius, Matches* m,
-                      bool count_visible);
-  /// searchLocalMap over the local map as it is now.
-  void searchLocalMap(const SE3& T_w_c, const FrameFeatures& f, double radius, Matches* m, bool count_visible);
+                      bool record_visible);
+  /// Counts the landmarks in m->visible_* as visible and the matched ones as found.
+  void countVisibleAndFound(const Matches& m, TrackingResult* r);
   PoseOnlyResult optimise(const SE3& T_w_c, const FrameFeatures& f, Matches* m);
-  bool relocalise(const FrameFeatures& f, SE3* T_w_c, Matches* m);
+  Attempt relocalise(const FrameFeatures& f, Matches* m);
   /// Localisation only: the keyframe sharing the most landmarks with the tracked frame.
   void updateReferenceKeyframe(const Matches& m);
   bool needKeyframe(const SE3& T_w_c, int inliers) const;
@@ -151,9 +226,13 @@ class Tracker {
   PinholeCamera camera_;
   TrackerOptions options_;
   PoseOptimizer optimizer_;
+  KeyframePlaces places_;
+  bool have_frame_words_ = false;  // frame_words_ describes the frame being tracked
+  FrameWords frame_words_;
 
   bool have_last_ = false, have_velocity_ = false, lost_ = false;
   SE3 T_w_last_, velocity_;  // velocity_ = T_prev_last (last frame in the previous frame)
+  TimeNs t_last_ns_ = 0;  // stamp of the last tracked frame
   Id reference_kf_ = kNoId;
   int frames_since_kf_ = 0;
   int reference_kf_landmarks_ = 0;

@@ -257,6 +257,15 @@ int TumDataset::skippedTotal() const {
   return n;
 }
 
+std::string TumDataset::skippedText() const {
+  std::string text;
+  for (int s = 1; s < kFrameStatusCount; ++s) {
+    const int n = counts_[s];
+    if (n > 0) text += (text.empty() ? "" : ", ") + std::to_string(n) + " " + toString(static_cast<FrameStatus>(s));
+  }
+  return text;
+}
+
 FrameStatus TumDataset::load(size_t i, RgbdFrame* frame, std::string* reason) {
   if (i >= entries_.size()) throw std::out_of_range(str(dir_, ": frame ", i, " requested, the dataset has ", entries_.size()));
   std::string why;

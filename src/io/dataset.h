@@ -28,6 +28,7 @@
 #include "camera/pinhole_camera.h"
 #include "core/frame.h"
 #include "core/trajectory.h"
+#include "io/frame_source.h"
 
 namespace plslam {
 
@@ -84,7 +85,7 @@ struct DatasetListReport {
   int frames_without_mask = 0;   ///< frames with no mask within max_difference (when masks.txt exists)
 };
 
-class TumDataset {
+class TumDataset : public FrameSource {
  public:
   /// Reads the lists of `dir` and associates them. `camera` gives the expected image
   /// size and the depth scale. Throws IoError for a missing folder or list, a list with no
@@ -92,9 +93,10 @@ class TumDataset {
   static TumDataset open(const std::string& dir, const PinholeCamera& camera, const DatasetOptions& options = {});
 
   const std::string& dir() const { return dir_; }
+  const std::string& location() const override { return dir_; }
   const PinholeCamera& camera() const { return camera_; }
   /// Number of associated frames (before any per-frame skip).
-  size_t size() const { return entries_.size(); }
+  size_t size() const override { return entries_.size(); }
   const std::vector<DatasetEntry>& entries() const { return entries_; }
   /// Colour stamps of all associated frames, in order.
   std::vector<TimeNs> stamps() const;
@@ -106,18 +108,18 @@ class TumDataset {
   /// (once per frame, however often it is loaded).
   FrameStatus load(size_t i, RgbdFrame* frame, std::string* reason = nullptr);
   /// The next loadable frame in order, skipping (and counting) bad ones; false at the end.
-  bool next(RgbdFrame* frame);
+  bool next(RgbdFrame* frame) override;
   /// Restarts next() from the first frame.
   void rewind() { cursor_ = 0; }
 
   /// Frames skipped so far for `status` (status kOk: frames loaded successfully).
   int count(FrameStatus status) const { return counts_[static_cast<int>(status)]; }
   /// All frames skipped so far, whatever the reason.
-  int skippedTotal() const;
+  int skippedTotal() const override;
+  std::string skippedText() const override;
 
   /// The ground truth, empty when the folder has none.
-  const Trajectory& groundtruth() const { return groundtruth_; }
-  bool hasGroundtruth() const { return !groundtruth_.empty(); }
+  const Trajectory& groundtruth() const override { return groundtruth_; }
   /// Instance classes from masks/instances.txt (empty without it).
   const std::vector<InstanceLabel>& instanceLabels() const { return instance_labels_; }
 

@@ -47,13 +47,6 @@ double combinedScore(double orb, double lbd, bool lines_in_both, const LoopOptio
   return total > 0 ? (o.point_weight * orb + wl * lbd) / total : 0.0;
 }
 
-KeyframeBow describeBow(const VocabularySet& vocabulary, const FrameFeatures& f) {
-  KeyframeBow b;
-  b.orb = vocabulary.orb.transform(f.point_descriptors);
-  b.lbd = vocabulary.lbd.transform(f.line_descriptors);
-  return b;
-}
-
 FeatureGeometry linesFittedToDepth(const FrameFeatures& features, const cv::Mat& depth_m, const PinholeCamera& camera) {
   const Eigen::Vector3d nan = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   FeatureGeometry g;

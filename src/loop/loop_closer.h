@@ -39,10 +39,10 @@
 #include "camera/pinhole_camera.h"
 #include "core/map.h"
 #include "features/matching.h"
-#include "loop/keyframe_database.h"
+#include "place/keyframe_database.h"
 #include "loop/rigid_ransac.h"
 #include "loop/semantic_match.h"
-#include "loop/vocabulary.h"
+#include "place/vocabulary.h"
 #include "optim/bundle_adjuster.h"
 #include "optim/pose_graph.h"
 
@@ -137,8 +137,6 @@ struct LoopStats {
 /// Similarity of two keyframes' bags as the loop closer computes it (before normalisation).
 double combinedScore(double orb, double lbd, bool lines_in_both, const LoopOptions& options);
 
-/// Bags of words of one keyframe's features.
-KeyframeBow describeBow(const VocabularySet& vocabulary, const FrameFeatures& features);
 
 /// 3D positions of one keyframe's features in its camera frame, per feature index (NaN or
 /// missing entries: unknown).

@@ -72,6 +72,7 @@ void writeDataset(const Scene& scene, const std::string& dir, const DatasetOptio
     depth_stamps[i] = formatSecondsStamp(scene.frameTime(i) + options.depth_offset_ns);
   }
   const double scale = scene.camera().depth_scale;
+  std::vector<std::string> exposure_rows(n);  // fast scene: what the colour of each frame went through
 
   std::atomic<int> next{0}, done{0};
   std::mutex mutex;
@@ -84,6 +85,7 @@ void writeDataset(const Scene& scene, const std::string& dir, const DatasetOptio
           if (failure) return;
         }
         const RenderedFrame f = render(scene, i);
+        exposure_rows[i] = str(stamps[i], " ", f.gain, " ", f.subframes);
         writePng((root / "rgb" / (stamps[i] + ".png")).string(), f.bgr, options.png_compression);
         writePng((root / "depth" / (depth_stamps[i] + ".png")).string(), metresToDepth(f.depth_m, scale),
                  options.png_compression);
@@ -127,6 +129,14 @@ void writeDataset(const Scene& scene, const std::string& dir, const DatasetOptio
     for (const auto& m : scene.movingObjects()) inst << m.instance_id << " " << m.class_id << " " << m.class_name << "\n";
     writeFileAtomically((root / "masks" / "instances.txt").string(), inst.str());
     writeFileAtomically((root / "masks.txt").string(), indexFile("instance masks (16-bit ids)", mask_rows));
+  }
+  if (scene.kind() == SceneKind::kFast) {
+    std::ostringstream os;
+    os << "# exposure gain and motion-blur sub-frames per colour image (exposure "
+       << nsToSeconds(scene.exposureNs()) * 1e3 << " ms centred on the stamp; 1 sub-frame = sharp)\n"
+       << "# timestamp gain subframes\n";
+    for (const std::string& row : exposure_rows) os << row << "\n";
+    writeFileAtomically((root / "exposure.txt").string(), os.str());
   }
   writeFileAtomically((root / "depth.txt").string(), indexFile("depth maps", depth_rows));
   writeFileAtomically((root / "rgb.txt").string(), indexFile("color images", rgb_rows));

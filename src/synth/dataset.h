@@ -16,6 +16,9 @@
 //   DIR/groundtruth.txt       T_w_c of every frame at its colour stamp (TUM trajectory)
 //   DIR/camera.xml            the camera (camera/camera_file.h), name "synthetic"
 //   DIR/scene.txt             Scene::describe(): kind, seed, noise, boxes, persons
+//   DIR/exposure.txt          fast scene only: "stamp gain subframes" per colour image (the
+//                             colour integrates over an exposure centred on its stamp; the
+//                             depth and groundtruth.txt are at the stamp itself)
 //
 // <stamp> is the frame time in seconds with 6 decimals (core/time.h formatSecondsStamp);
 // frames are 30 Hz, stamps are whole microseconds. The index files are written last and

@@ -227,6 +227,221 @@ inline void threeGaussians(uint64_t h, float out[3]) {
   }
 }
 
+/// What the rays through the pixel centres saw, and the colour of every pixel.
+struct Shot {
+  std::vector<double> z;     // depth, NaN where nothing was hit
+  std::vector<int> key;      // box * 6 + face
+  std::vector<Rgb> col;      // linear colour in [0, 1], anti-aliased at edges
+  std::vector<float> cosi;   // |cos| of the incidence angle (only with noise)
+  cv::Mat ids;               // CV_16UC1 instance ids
+};
+
+void traceCentres(const FrameRenderer& fr, const PinholeCamera& cam, bool noise, Shot* s) {
+  const int W = cam.width, H = cam.height;
+  const size_t npix = static_cast<size_t>(W) * H;
+  s->z.resize(npix);
+  s->key.resize(npix);
+  s->col.resize(npix);
+  s->cosi.resize(npix);
+  s->ids.create(H, W, CV_16UC1);
+  for (int y = 0; y < H; ++y) {
+    const double yn = (y - cam.cy) / cam.fy;
+    auto* ids = s->ids.ptr<uint16_t>(y);
+    for (int x = 0; x < W; ++x) {
+      const double xn = (x - cam.cx) / cam.fx;
+      const Hit hit = fr.trace(xn, yn, fr.tileOf(x, y));
+      const int i = y * W + x;
+      s->z[i] = hit.box < 0 ? std::numeric_limits<double>::quiet_NaN() : hit.s;
+      s->key[i] = hit.box * 6 + hit.face;
+      s->col[i] = fr.shade(hit);
+      s->cosi[i] = hit.box < 0 || !noise ? 0.f : static_cast<float>(FrameRenderer::incidenceCos(hit));
+      ids[x] = static_cast<uint16_t>(fr.instanceOf(hit));
+    }
+  }
+}
+
+/// Marks the pixels whose centre differs from a neighbour's (another face, or a texture edge).
+void findEdges(const Shot& s, int W, int H, std::vector<uint8_t>* edge) {
+  edge->assign(static_cast<size_t>(W) * H, 0);
+  auto differs = [&](int i, int j) {
+    if (s.key[i] != s.key[j]) return true;
+    const Rgb &a = s.col[i], &b = s.col[j];
+    return std::abs(a.r - b.r) + std::abs(a.g - b.g) + std::abs(a.b - b.b) > 0.04f;
+  };
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const int i = y * W + x;
+      if (x + 1 < W && differs(i, i + 1)) (*edge)[i] = (*edge)[i + 1] = 1;
+      if (y + 1 < H && differs(i, i + W)) (*edge)[i] = (*edge)[i + W] = 1;
+    }
+}
+
+/// Edge pixels get the average of `samples` sub-pixel samples.
+void antiAlias(const FrameRenderer& fr, const PinholeCamera& cam, int samples, Shot* s) {
+  thread_local std::vector<uint8_t> edge;
+  const int W = cam.width, H = cam.height;
+  findEdges(*s, W, H, &edge);
+  // Half the samples first; a pixel they find uniform (it only neighbours an edge) stops there.
+  const auto pattern = samplePattern(samples);
+  const size_t first = (pattern.size() + 1) / 2;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const int i = y * W + x;
+      if (!edge[i]) continue;
+      Rgb acc, lo{9, 9, 9}, hi{-9, -9, -9};
+      int key0 = -2;
+      bool uniform = true;
+      size_t used = 0;
+      for (size_t k = 0; k < pattern.size(); ++k) {
+        if (k == first && uniform && hi.r - lo.r + hi.g - lo.g + hi.b - lo.b < 0.01f) break;
+        const double xn = (x + pattern[k].first - cam.cx) / cam.fx, yn = (y + pattern[k].second - cam.cy) / cam.fy;
+        const Hit hit = fr.trace(xn, yn, fr.tileOf(x, y));
+        const Rgb c = fr.shade(hit);
+        const int kk = hit.box * 6 + hit.face;
+        if (key0 == -2) key0 = kk;
+        uniform &= kk == key0;
+        lo = {std::min(lo.r, c.r), std::min(lo.g, c.g), std::min(lo.b, c.b)};
+        hi = {std::max(hi.r, c.r), std::max(hi.g, c.g), std::max(hi.b, c.b)};
+        acc.r += c.r, acc.g += c.g, acc.b += c.b;
+        ++used;
+      }
+      const float k = 1.0f / static_cast<float>(used);
+      s->col[i] = {acc.r * k, acc.g * k, acc.b * k};
+    }
+}
+
+/// Traces the view from T_w_c at time t into `s`, anti-aliased.
+void shoot(const Scene& scene, const SE3& T_w_c, TimeNs t_ns, Shot* s) {
+  const FrameRenderer fr(scene, T_w_c, t_ns);
+  traceCentres(fr, scene.camera(), scene.options().noise.enabled, s);
+  if (scene.options().aa_samples > 1) antiAlias(fr, scene.camera(), scene.options().aa_samples, s);
+}
+
+/// Sub-frames over the exposure of the frame at t, so that consecutive ones are at most
+/// blur_step_px apart in the image: the largest displacement over the exposure of a 5 x 5
+/// grid of pixels (corners included) at the depth the frame sees there.
+int subframeCount(const Scene& scene, TimeNs t_ns, const std::vector<double>& z) {
+  const TimeNs e = scene.exposureNs();
+  if (e <= 0) return 1;
+  const PinholeCamera& cam = scene.camera();
+  const SE3 T_w_c = scene.cameraPoseAt(t_ns);
+  const SE3 T_0_c = scene.cameraPoseAt(t_ns - e / 2).inverse() * T_w_c;
+  const SE3 T_1_c = scene.cameraPoseAt(t_ns + e / 2).inverse() * T_w_c;
+  double widest = 0;
+  for (int gy = 0; gy < 5; ++gy)
+    for (int gx = 0; gx < 5; ++gx) {
+      const int x = gx * (cam.width - 1) / 4, y = gy * (cam.height - 1) / 4;
+      const double d = z[static_cast<size_t>(y) * cam.width + x];
+      const double depth = std::isfinite(d) ? d : 100.0;  // nothing hit: rotation only
+      const Eigen::Vector3d p((x - cam.cx) / cam.fx * depth, (y - cam.cy) / cam.fy * depth, depth);
+      const Eigen::Vector3d a = T_0_c * p, b = T_1_c * p;
+      if (a.z() < 0.05 || b.z() < 0.05) continue;
+      const Eigen::Vector2d ua(cam.fx * a.x() / a.z(), cam.fy * a.y() / a.z()), ub(cam.fx * b.x() / b.z(), cam.fy * b.y() / b.z());
+      widest = std::max(widest, (ub - ua).norm());
+    }
+  const auto& f = scene.options().fast;
+  return std::clamp(static_cast<int>(std::ceil(widest / f.blur_step_px)), 1, f.max_subframes);
+}
+
+/// Replaces s->col by the average colour over the frame's exposure: n sub-frames at the
+/// midpoints of n equal parts of [t - e/2, t + e/2] (physically correct blur from the true path).
+void blurOverExposure(const Scene& scene, TimeNs t_ns, int n, Shot* s) {
+  thread_local Shot sub;
+  thread_local std::vector<Rgb> acc;
+  acc.assign(s->col.size(), Rgb{});
+  const double e = static_cast<double>(scene.exposureNs());
+  for (int k = 0; k < n; ++k) {
+    const TimeNs tk = t_ns + static_cast<TimeNs>(std::llround(e * ((k + 0.5) / n - 0.5)));
+    shoot(scene, scene.cameraPoseAt(tk), tk, &sub);
+    for (size_t i = 0; i < acc.size(); ++i) acc[i].r += sub.col[i].r, acc[i].g += sub.col[i].g, acc[i].b += sub.col[i].b;
+  }
+  const float k = 1.0f / static_cast<float>(n);
+  for (size_t i = 0; i < acc.size(); ++i) s->col[i] = {acc[i].r * k, acc[i].g * k, acc[i].b * k};
+}
+
+/// Noise of pixel i, sub-stream k of a frame's noise stream (counter-based: one mix per value).
+struct PixelNoise {
+  uint64_t stream;
+  uint64_t operator()(int i, uint64_t k) const {
+    return mix64(stream + (static_cast<uint64_t>(i) * 4 + k) * 0x9E3779B97F4A7C15ULL);
+  }
+};
+
+/// 8-bit BGR from linear colour: times the exposure gain, plus sensor noise after it.
+cv::Mat colourImage(const std::vector<Rgb>& col, int W, int H, float gain, float sigma, const PixelNoise& noise) {
+  cv::Mat bgr(H, W, CV_8UC3);
+  const float k = 255.f * gain;
+  for (int y = 0; y < H; ++y) {
+    auto* row = bgr.ptr<cv::Vec3b>(y);
+    for (int x = 0; x < W; ++x) {
+      const int i = y * W + x;
+      float c[3] = {col[i].b * k, col[i].g * k, col[i].r * k};
+      if (sigma > 0) {
+        float g[3];
+        threeGaussians(noise(i, 0), g);
+        for (int j = 0; j < 3; ++j) c[j] += sigma * g[j];
+      }
+      for (int j = 0; j < 3; ++j) row[x][j] = cv::saturate_cast<uint8_t>(c[j]);
+    }
+  }
+  return bgr;
+}
+
+/// Metric depth with the Kinect-like imperfections of DepthNoiseOptions.
+cv::Mat depthImage(const Shot& s, int W, int H, const DepthNoiseOptions& nz, const PixelNoise& noise) {
+  cv::Mat depth(H, W, CV_32FC1);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const std::vector<double>& z = s.z;
+  for (int y = 0; y < H; ++y) {
+    float* row = depth.ptr<float>(y);
+    for (int x = 0; x < W; ++x) {
+      const int i = y * W + x;
+      double d = z[i];
+      if (!nz.enabled || !std::isfinite(d)) {
+        row[x] = std::isfinite(d) ? static_cast<float>(d) : nan;
+        continue;
+      }
+      bool drop = d < nz.min_depth_m || d > nz.max_depth_m || s.cosi[i] < nz.grazing_cos ||
+                  unitFromHash(noise(i, 1)) < nz.dropout_fraction;
+      // The far side of a depth jump reads nothing (as the Kinect's occlusion shadow).
+      const double jump = nz.edge_jump_m + 0.02 * d;
+      if (!drop && ((x > 0 && z[i - 1] < d - jump) || (x + 1 < W && z[i + 1] < d - jump) ||
+                    (y > 0 && z[i - W] < d - jump) || (y + 1 < H && z[i + W] < d - jump)))
+        drop = true;
+      if (drop) {
+        row[x] = nan;
+        continue;
+      }
+      d += nz.sigma_k * d * d * gaussian12(noise(i, 2));
+      if (nz.quantum_m > 0) d = std::round(d / nz.quantum_m) * nz.quantum_m;
+      row[x] = d > 0 ? static_cast<float>(d) : nan;
+    }
+  }
+  return depth;
+}
+
+/// The frame from a shot: colour with gain and noise, depth with noise, instance ids.
+RenderedFrame develop(const Scene& scene, const Shot& s, const SE3& T_w_c, TimeNs t_ns, uint64_t noise_stream) {
+  const SceneOptions& opt = scene.options();
+  const int W = scene.camera().width, H = scene.camera().height;
+  const PixelNoise noise{hash3(opt.seed, 0xd371, noise_stream)};
+  const float sigma = opt.noise.enabled ? static_cast<float>(opt.noise.colour_sigma) : 0.f;
+  RenderedFrame out;
+  out.t_ns = t_ns;
+  out.T_w_c = T_w_c;
+  out.gain = scene.exposureGain(t_ns);
+  out.bgr = colourImage(s.col, W, H, static_cast<float>(out.gain), sigma, noise);
+  out.depth_m = depthImage(s, W, H, opt.noise, noise);
+  out.instance_ids = s.ids.clone();  // the shot is scratch reused by the next frame
+  return out;
+}
+
+/// Per-thread scratch of the frame being rendered, reused from frame to frame.
+Shot& frameShot() {
+  thread_local Shot shot;
+  return shot;
+}
+
 }  // namespace
 
 RgbdFrame RenderedFrame::toRgbdFrame() const {
@@ -243,144 +458,23 @@ RgbdFrame RenderedFrame::toRgbdFrame() const {
 RenderedFrame render(const Scene& scene, int frame_index) {
   if (frame_index < 0 || frame_index >= scene.frameCount())
     throw ConfigError(str("synthetic render: frame ", frame_index, " outside [0, ", scene.frameCount(), ")"));
-  RenderedFrame f = renderView(scene, scene.cameraPose(frame_index), scene.frameTime(frame_index),
-                               static_cast<uint64_t>(frame_index));
+  const TimeNs t_ns = scene.frameTime(frame_index);
+  const SE3 T_w_c = scene.cameraPose(frame_index);
+  Shot& shot = frameShot();
+  shoot(scene, T_w_c, t_ns, &shot);
+  // Depth, ids and pose stay those at the stamp; only the colour integrates over the exposure.
+  const int n = subframeCount(scene, t_ns, shot.z);
+  if (n > 1) blurOverExposure(scene, t_ns, n, &shot);
+  RenderedFrame f = develop(scene, shot, T_w_c, t_ns, static_cast<uint64_t>(frame_index));
   f.index = frame_index;
+  f.subframes = n;
   return f;
 }
 
 RenderedFrame renderView(const Scene& scene, const SE3& T_w_c, TimeNs t_ns, uint64_t noise_stream) {
-  const PinholeCamera& cam = scene.camera();
-  const SceneOptions& opt = scene.options();
-  const int W = cam.width, H = cam.height;
-  const FrameRenderer fr(scene, T_w_c, t_ns);
-
-  // Per-thread scratch reused from frame to frame (every element is written below).
-  thread_local std::vector<double> z;
-  thread_local std::vector<int> key;
-  thread_local std::vector<Rgb> col;
-  thread_local std::vector<float> cosi;
-  thread_local std::vector<uint8_t> edge;
-  const size_t npix = static_cast<size_t>(W) * H;
-  z.resize(npix);
-  key.resize(npix);
-  col.resize(npix);
-  cosi.resize(npix);
-  cv::Mat ids(H, W, CV_16UC1);
-  for (int y = 0; y < H; ++y) {
-    const double yn = (y - cam.cy) / cam.fy;
-    for (int x = 0; x < W; ++x) {
-      const double xn = (x - cam.cx) / cam.fx;
-      const Hit hit = fr.trace(xn, yn, fr.tileOf(x, y));
-      const int i = y * W + x;
-      z[i] = hit.box < 0 ? std::numeric_limits<double>::quiet_NaN() : hit.s;
-      key[i] = hit.box * 6 + hit.face;
-      col[i] = fr.shade(hit);
-      cosi[i] = hit.box < 0 || !opt.noise.enabled ? 0.f : static_cast<float>(FrameRenderer::incidenceCos(hit));
-      ids.at<uint16_t>(y, x) = static_cast<uint16_t>(fr.instanceOf(hit));
-    }
-  }
-
-  // Anti-aliasing: pixels whose centre differs from a neighbour's (another face, or a
-  // texture edge) get the average of aa_samples sub-pixel samples.
-  if (opt.aa_samples > 1) {
-    edge.assign(npix, 0);
-    auto differs = [&](int i, int j) {
-      if (key[i] != key[j]) return true;
-      return std::abs(col[i].r - col[j].r) + std::abs(col[i].g - col[j].g) + std::abs(col[i].b - col[j].b) > 0.04f;
-    };
-    for (int y = 0; y < H; ++y)
-      for (int x = 0; x < W; ++x) {
-        const int i = y * W + x;
-        if (x + 1 < W && differs(i, i + 1)) edge[i] = edge[i + 1] = 1;
-        if (y + 1 < H && differs(i, i + W)) edge[i] = edge[i + W] = 1;
-      }
-    // Half the samples first; a pixel they find uniform (it only neighbours an edge) stops there.
-    const auto pattern = samplePattern(opt.aa_samples);
-    const size_t first = (pattern.size() + 1) / 2;
-    for (int y = 0; y < H; ++y)
-      for (int x = 0; x < W; ++x) {
-        const int i = y * W + x;
-        if (!edge[i]) continue;
-        Rgb acc, lo{9, 9, 9}, hi{-9, -9, -9};
-        int key0 = -2;
-        bool uniform = true;
-        size_t used = 0;
-        for (size_t k = 0; k < pattern.size(); ++k) {
-          if (k == first && uniform && hi.r - lo.r + hi.g - lo.g + hi.b - lo.b < 0.01f) break;
-          const double xn = (x + pattern[k].first - cam.cx) / cam.fx, yn = (y + pattern[k].second - cam.cy) / cam.fy;
-          const Hit hit = fr.trace(xn, yn, fr.tileOf(x, y));
-          const Rgb c = fr.shade(hit);
-          const int kk = hit.box * 6 + hit.face;
-          if (key0 == -2) key0 = kk;
-          uniform &= kk == key0;
-          lo = {std::min(lo.r, c.r), std::min(lo.g, c.g), std::min(lo.b, c.b)};
-          hi = {std::max(hi.r, c.r), std::max(hi.g, c.g), std::max(hi.b, c.b)};
-          acc.r += c.r, acc.g += c.g, acc.b += c.b;
-          ++used;
-        }
-        const float k = 1.0f / static_cast<float>(used);
-        col[i] = {acc.r * k, acc.g * k, acc.b * k};
-      }
-  }
-
-  const DepthNoiseOptions& nz = opt.noise;
-  const uint64_t stream = hash3(opt.seed, 0xd371, noise_stream);
-  // Noise of pixel i, sub-stream k (counter-based: one mix per value).
-  auto pixelHash = [stream](int i, uint64_t k) {
-    return mix64(stream + (static_cast<uint64_t>(i) * 4 + k) * 0x9E3779B97F4A7C15ULL);
-  };
-  cv::Mat bgr(H, W, CV_8UC3);
-  const float colour_sigma = nz.enabled ? static_cast<float>(nz.colour_sigma) : 0.f;
-  for (int y = 0; y < H; ++y) {
-    auto* row = bgr.ptr<cv::Vec3b>(y);
-    for (int x = 0; x < W; ++x) {
-      const int i = y * W + x;
-      float c[3] = {col[i].b * 255.f, col[i].g * 255.f, col[i].r * 255.f};
-      if (colour_sigma > 0) {
-        float g[3];
-        threeGaussians(pixelHash(i, 0), g);
-        for (int k = 0; k < 3; ++k) c[k] += colour_sigma * g[k];
-      }
-      for (int k = 0; k < 3; ++k) row[x][k] = cv::saturate_cast<uint8_t>(c[k]);
-    }
-  }
-
-  cv::Mat depth(H, W, CV_32FC1);
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  for (int y = 0; y < H; ++y) {
-    float* row = depth.ptr<float>(y);
-    for (int x = 0; x < W; ++x) {
-      const int i = y * W + x;
-      double d = z[i];
-      if (!nz.enabled || !std::isfinite(d)) {
-        row[x] = std::isfinite(d) ? static_cast<float>(d) : nan;
-        continue;
-      }
-      bool drop = d < nz.min_depth_m || d > nz.max_depth_m || cosi[i] < nz.grazing_cos ||
-                  unitFromHash(pixelHash(i, 1)) < nz.dropout_fraction;
-      // The far side of a depth jump reads nothing (as the Kinect's occlusion shadow).
-      const double jump = nz.edge_jump_m + 0.02 * d;
-      if (!drop && ((x > 0 && z[i - 1] < d - jump) || (x + 1 < W && z[i + 1] < d - jump) ||
-                    (y > 0 && z[i - W] < d - jump) || (y + 1 < H && z[i + W] < d - jump)))
-        drop = true;
-      if (drop) {
-        row[x] = nan;
-        continue;
-      }
-      d += nz.sigma_k * d * d * gaussian12(pixelHash(i, 2));
-      if (nz.quantum_m > 0) d = std::round(d / nz.quantum_m) * nz.quantum_m;
-      row[x] = d > 0 ? static_cast<float>(d) : nan;
-    }
-  }
-
-  RenderedFrame out;
-  out.t_ns = t_ns;
-  out.T_w_c = T_w_c;
-  out.bgr = bgr;
-  out.depth_m = depth;
-  out.instance_ids = ids;
-  return out;
+  Shot& shot = frameShot();
+  shoot(scene, T_w_c, t_ns, &shot);
+  return develop(scene, shot, T_w_c, t_ns, noise_stream);
 }
 
 }  // namespace plslam::synth

@@ -6,6 +6,11 @@
 // ray hit; colour averages several samples where a pixel straddles an edge.
 // A frame is a pure function of (scene, pose, time, noise stream): render() is const,
 // thread-safe and gives byte-identical images for the same seed.
+//
+// Fast scene (Scene::exposureNs() > 0): render() averages the colour of sub-frames rendered
+// along the true path over the exposure, centred on the frame stamp, so the blur follows
+// the image motion; depth, instance ids and T_w_c are those at the stamp. The colour is
+// multiplied by Scene::exposureGain(t) before the colour noise (every kind; 1 but there).
 #pragma once
 
 #include <opencv2/core.hpp>
@@ -23,16 +28,21 @@ struct RenderedFrame {
   cv::Mat bgr;             ///< CV_8UC3
   cv::Mat depth_m;         ///< CV_32FC1, metres along the optical axis, NaN where no reading
   cv::Mat instance_ids;    ///< CV_16UC1, 0 = static background, else the moving object's instance id
+  /// Sub-frames averaged over the exposure (1: one instant, no blur): enough for the image
+  /// to move at most FastMotionOptions::blur_step_px between them, capped.
+  int subframes = 1;
+  double gain = 1.0;       ///< exposure gain applied to the colour
 
   /// As the pipeline's input frame (the images are shared, not copied).
   RgbdFrame toRgbdFrame() const;
 };
 
-/// Renders frame `frame_index` (0 <= index < scene.frameCount()) at its pose and time.
+/// Renders frame `frame_index` (0 <= index < scene.frameCount()) at its pose and time,
+/// motion blurred over the exposure when the scene has one.
 RenderedFrame render(const Scene& scene, int frame_index);
 
-/// Renders the scene from any pose at any time; `noise_stream` selects the noise pattern
-/// (render() uses the frame index).
+/// Renders the scene from any pose at one instant (no motion blur); `noise_stream` selects
+/// the noise pattern (render() uses the frame index).
 RenderedFrame renderView(const Scene& scene, const SE3& T_w_c, TimeNs t_ns, uint64_t noise_stream);
 
 }  // namespace plslam::synth

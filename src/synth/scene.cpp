@@ -20,19 +20,6 @@ constexpr double kTwoPi = 2.0 * M_PI;
 
 Eigen::Quaterniond yawQ(double yaw_rad) { return Eigen::Quaterniond(Eigen::AngleAxisd(yaw_rad, Eigen::Vector3d::UnitZ())); }
 
-/// T_w_c of a camera at `p` looking along yaw (from +x towards +y), pitch (up positive),
-/// rolled about its optical axis; camera x right, y down, z forward.
-SE3 lookPose(const Eigen::Vector3d& p, double yaw, double pitch, double roll) {
-  const Eigen::Vector3d f(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw), std::sin(pitch));
-  const Eigen::Vector3d r = f.cross(Eigen::Vector3d::UnitZ()).normalized();
-  const Eigen::Vector3d d = f.cross(r);
-  Eigen::Matrix3d R;
-  R.col(0) = std::cos(roll) * r + std::sin(roll) * d;
-  R.col(1) = -std::sin(roll) * r + std::cos(roll) * d;
-  R.col(2) = f;
-  return SE3(R, p);
-}
-
 double wave(double t, double period, double phase) { return std::sin(kTwoPi * t / period + phase); }
 
 /// Ramanujan's approximation of an ellipse's perimeter.
@@ -204,14 +191,15 @@ const char* sceneKindName(SceneKind kind) {
     case SceneKind::kDynamic: return "dynamic";
     case SceneKind::kLoop: return "loop";
     case SceneKind::kCrowded: return "crowded";
+    case SceneKind::kFast: return "fast";
   }
   return "?";
 }
 
 SceneKind parseSceneKind(const std::string& name) {
-  for (SceneKind k : {SceneKind::kStatic, SceneKind::kDynamic, SceneKind::kLoop, SceneKind::kCrowded})
+  for (SceneKind k : {SceneKind::kStatic, SceneKind::kDynamic, SceneKind::kLoop, SceneKind::kCrowded, SceneKind::kFast})
     if (name == sceneKindName(k)) return k;
-  throw ConfigError("unknown synthetic scene '" + name + "' (expected static, dynamic, loop or crowded)");
+  throw ConfigError("unknown synthetic scene '" + name + "' (expected static, dynamic, loop, crowded or fast)");
 }
 
 int defaultFrameCount(SceneKind kind) { return kind == SceneKind::kLoop ? 450 : 300; }
@@ -265,6 +253,7 @@ TimeNs Scene::frameTime(int i) const {
 SE3 Scene::cameraPoseAt(TimeNs t_ns) const {
   const double t = nsToSeconds(t_ns - options_.start_ns);
   switch (kind_) {
+    case SceneKind::kFast: return fast_path_->poseAt(t);
     case SceneKind::kLoop: {
       const double lap_s = std::max(1, options_.frames - 1) / 30.0 / options_.laps;
       const double th = kTwoPi * t / lap_s;
@@ -291,6 +280,13 @@ Trajectory Scene::groundTruth() const {
   for (int i = 0; i < options_.frames; ++i) out.push_back({frameTime(i), cameraPose(i)});
   return out;
 }
+
+TimeNs Scene::exposureNs() const {
+  if (kind_ != SceneKind::kFast || !options_.fast.motion_blur) return 0;
+  return static_cast<TimeNs>(std::llround(options_.fast.exposure_ms * 1e6));
+}
+
+double Scene::exposureGain(TimeNs t_ns) const { return gain_.at(nsToSeconds(t_ns - options_.start_ns)); }
 
 std::vector<Eigen::Vector3d> Scene::staticCorners() const {
   std::vector<Eigen::Vector3d> out;
@@ -398,6 +394,12 @@ std::string Scene::describe() const {
        << n.max_depth_m << " colour_sigma " << n.colour_sigma << "\n";
   else
     os << "noise off\n";
+  if (kind_ == SceneKind::kFast) {
+    const auto& f = options_.fast;
+    os << "fast max_rotation_deg_s " << f.max_rotation_deg_s << " blur " << (f.motion_blur ? "on" : "off")
+       << " exposure_ms " << f.exposure_ms << " blur_step_px " << f.blur_step_px << " max_subframes "
+       << f.max_subframes << " gain " << (f.gain ? "on" : "off") << "\n";
+  }
   for (const Box& b : static_boxes_) {
     os << "box " << b.name << " ";
     for (int f = 0; f < 6; ++f) os << (f ? "," : "") << materialName(b.materials[f]);
@@ -457,6 +459,11 @@ Scene makeScene(SceneKind kind, const SceneOptions& options) {
   if (!(n.sigma_k >= 0) || !(n.quantum_m >= 0) || !(n.dropout_fraction >= 0 && n.dropout_fraction <= 1) ||
       !(n.min_depth_m >= 0 && n.max_depth_m > n.min_depth_m) || !(n.colour_sigma >= 0))
     throw ConfigError("synthetic scene: depth noise options out of range");
+  const auto& f = options.fast;
+  if (!(f.max_rotation_deg_s >= 1 && f.max_rotation_deg_s <= 2000) || !(f.exposure_ms >= 0 && f.exposure_ms <= 33) ||
+      !(f.blur_step_px >= 0.1) || f.max_subframes < 1 || f.max_subframes > 256)
+    throw ConfigError("synthetic scene: fast motion options out of range (rotation 1..2000 deg/s, exposure 0..33 ms, "
+                      "blur step >= 0.1 px, 1..256 sub-frames)");
   Scene s;
   s.kind_ = kind;
   s.options_ = options;
@@ -470,6 +477,10 @@ Scene makeScene(SceneKind kind, const SceneOptions& options) {
   }
   s.walks_ = walksFor(kind);
   for (size_t i = 0; i < s.walks_.size(); ++i) s.moving_info_.push_back({static_cast<int>(i) + 1, 0, "person"});
+  if (kind == SceneKind::kFast) {
+    s.fast_path_.emplace(f.max_rotation_deg_s);
+    if (f.gain) s.gain_ = ExposureGain(options.seed, options.frames / 30.0 + 1.0);
+  }
   return s;
 }
 

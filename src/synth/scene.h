@@ -15,13 +15,19 @@
 //            pass, every 11 s from t = 1.5 s) and a fourth one farther away
 //   loop     no moving objects; the camera goes once round an ellipse about the room centre
 //            looking outward at the walls, and its last pose equals its first
-// The seed changes the textures and the noise only; geometry and paths are fixed per kind.
+//   fast     no moving objects; a hand-held camera that is slow for the first 1.2 s, then
+//            alternates bursts of rotation (peaks of FastMotionOptions::max_rotation_deg_s)
+//            and translation (up to about 1 m/s) with calm stretches; colour is motion
+//            blurred over the exposure and its gain drifts and steps (synth/fast_motion.h)
+// The seed changes the textures, the noise and the fast scene's exposure gain only;
+// geometry and paths are fixed per kind.
 #pragma once
 
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,13 +35,14 @@
 #include "core/se3.h"
 #include "core/time.h"
 #include "core/trajectory.h"
+#include "synth/fast_motion.h"
 #include "synth/texture.h"
 
 namespace plslam::synth {
 
-enum class SceneKind { kStatic, kDynamic, kLoop, kCrowded };
+enum class SceneKind { kStatic, kDynamic, kLoop, kCrowded, kFast };
 
-/// "static", "dynamic", "loop", "crowded".
+/// "static", "dynamic", "loop", "crowded", "fast".
 const char* sceneKindName(SceneKind kind);
 /// The inverse of sceneKindName; throws ConfigError naming the accepted names.
 SceneKind parseSceneKind(const std::string& name);
@@ -55,6 +62,16 @@ struct DepthNoiseOptions {
   double colour_sigma = 1.0;        ///< Gaussian noise on the colour image, grey levels
 };
 
+/// The fast scene's camera path and camera effects (the other kinds ignore them).
+struct FastMotionOptions {
+  double max_rotation_deg_s = 180;  ///< peak rotation rate of the fastest bursts (sets the burst durations)
+  bool motion_blur = true;          ///< colour integrates over the exposure (false: one instant, a sharp image)
+  double exposure_ms = 12;          ///< exposure time, centred on the frame stamp (0..33)
+  double blur_step_px = 1.5;        ///< the image moves at most this far between blur sub-frames...
+  int max_subframes = 32;           ///< ...unless that needs more sub-frames than this
+  bool gain = true;                 ///< exposure gain varying over time (false: constant 1)
+};
+
 struct SceneOptions {
   int frames = 300;            ///< number of frames, 30 Hz (loop: the laps span all of them)
   int laps = 1;                ///< loop scene: laps round the room over the frames (long-run tests)
@@ -68,6 +85,7 @@ struct SceneOptions {
   /// twinShelfTransform()): the same things laid out otherwise (loop-closure tests).
   bool twin_shelf = false;
   DepthNoiseOptions noise;     ///< depth and colour noise
+  FastMotionOptions fast;      ///< fast scene only: path speed, motion blur, exposure gain
 };
 
 struct Segment3d {
@@ -134,6 +152,13 @@ class Scene {
   /// One pose per frame, at the frame stamps.
   Trajectory groundTruth() const;
 
+  /// Colour integrates over [t - e/2, t + e/2] around a frame's stamp t (depth, instance
+  /// ids and the ground-truth pose are those at t); 0 means a single instant, no blur.
+  /// Non-zero only for the fast scene with motion blur on.
+  TimeNs exposureNs() const;
+  /// Factor on the colour at time t (1 except for the fast scene with gain on).
+  double exposureGain(TimeNs t_ns) const;
+
   /// The room (an inward box) and the furniture, in a fixed order.
   const Box& room() const { return static_boxes_.front(); }
   const std::vector<Box>& staticBoxes() const { return static_boxes_; }
@@ -177,6 +202,8 @@ FaceTexture makeFaceTexture(const Box& box, int face);
   std::vector<std::array<std::shared_ptr<const FaceTexture>, 6>> static_textures_;
   std::vector<MovingObjectInfo> moving_info_;
   std::vector<WalkPath> walks_;  // one per moving object, same order
+  std::optional<FastPath> fast_path_;  // the fast kind's path
+  ExposureGain gain_;                  // constant 1 unless the fast kind with gain on
 };
 
 /// The texture of a box face: its material, the box's seed and the face's size (the face's

@@ -47,7 +47,11 @@ std::string statsToJson(const RunStats& s, const std::string& extra) {
      << ",\n  \"refinement_ms\": " << summaryJson(s.refinement_ms) << ",\n  \"stages_ms\": {";
   for (int i = 0; i < kStageCount; ++i)
     os << (i ? ", " : "") << "\"" << stageName(static_cast<Stage>(i)) << "\": " << summaryJson(s.stage_ms[i]);
-  os << "}"
+  os << "}" << ",\n  \"tracking_methods\": {";
+  for (int i = 0; i < kTrackingMethodCount; ++i)
+    os << (i ? ", " : "") << "\"" << toString(static_cast<TrackingMethod>(i)) << "\": " << s.methods[i];
+  os << "}" << ",\n  \"recovery\": {\"events\": " << s.recovery_frames.size()
+     << ", \"lost_frames\": " << summaryJson(s.recovery_frames) << ", \"seconds\": " << summaryJson(s.recovery_s) << "}"
      << ",\n  \"line_reconstruction_rate\": {\"fitting\": " << s.line_rate_fitting
      << ", \"endpoints\": " << s.line_rate_endpoints << ", \"keyframes\": " << s.line_rate_keyframes << "}"
      << ",\n  \"dynamic\": {\"segmenter\": \"" << s.segmenter << "\", \"points_rejected_per_frame\": "
@@ -77,7 +81,7 @@ std::string framesToCsv(const std::vector<FrameRecord>& records) {
   os << "t_s,status,tracking_ms,features_ms";
   for (int i = 0; i < kStageCount; ++i) os << "," << stageName(static_cast<Stage>(i)) << "_ms";
   os << ",refinement_ms,segmentation_ms,mask_age_frames,keyframes_before,points,lines,matched_points,matched_lines,"
-        "dynamic_points_rejected\n";
+        "dynamic_points_rejected,method\n";
   char buf[64];
   auto number = [&](double x) {
     std::snprintf(buf, sizeof(buf), "%.3f", x);
@@ -89,7 +93,8 @@ std::string framesToCsv(const std::vector<FrameRecord>& records) {
     for (int i = 0; i < kStageCount; ++i) os << "," << number(r.stages.ms[i]);
     os << "," << number(r.refinement_ms) << "," << (r.segmentation_ms >= 0 ? number(r.segmentation_ms) : "")
        << "," << r.mask_age_frames << "," << r.keyframes_before << "," << r.points << "," << r.lines << ","
-       << r.matched_points << "," << r.matched_lines << "," << r.dynamic_points_rejected << "\n";
+       << r.matched_points << "," << r.matched_lines << "," << r.dynamic_points_rejected << "," << toString(r.method)
+       << "\n";
   }
   return os.str();
 }

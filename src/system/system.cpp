@@ -10,11 +10,26 @@
 #include "core/thread_priority.h"
 #include "dense/keyframe_cloud.h"
 #include "dynamic/semantic_labels.h"
+#include "place/vocabulary.h"
 
 namespace plslam {
 
 namespace {
 const Logger kLog("system");
+
+/// The vocabulary of loop closure and relocalisation. Loop closure cannot work without it
+/// (ConfigError); tracking can, with brute-force relocalisation over recent keyframes only.
+std::shared_ptr<const VocabularySet> placeVocabulary(const std::string& path, bool required) {
+  const std::string file = path.empty() ? defaultVocabularyPath() : path;
+  try {
+    return std::make_shared<const VocabularySet>(loadVocabulary(file));
+  } catch (const Error& e) {
+    if (required)
+      throw ConfigError(str("loop closure: cannot use the vocabulary (loop.vocabulary, or --no-loop): ", e.what()));
+    kLog.warn(str("no vocabulary (", e.what(), "): relocalisation tries the recent keyframes only"));
+    return nullptr;
+  }
+}
 
 }  // namespace
 
@@ -29,8 +44,8 @@ struct System::Pipeline {
     cv::Mat dynamic_mask;  ///< CV_8U, 0 = moving objects (empty: no filtering)
     cv::Mat classes;       ///< classImage() of the frame's masks (empty without a segmenter)
   };
-  Pipeline(Map* map, const PinholeCamera& camera, const SystemOptions& o)
-      : tracker(map, camera, o.tracker),
+  Pipeline(Map* map, const PinholeCamera& camera, const SystemOptions& o, std::shared_ptr<const VocabularySet> vocabulary)
+      : tracker(map, camera, o.tracker, vocabulary),
         mapper(map, camera, o.mapper),
         dynamic(camera, o.dynamic, o.dynamic.enabled ? makeSegmenter(o.segmenter) : nullptr, !o.sequential),
         queue(o.mapping_queue, QueuePolicy::kBlock),
@@ -103,10 +118,12 @@ System::System(PinholeCamera camera, SystemOptions options, Map map)
   options_.tracker.use_lines = options_.use_lines;
   options_.mapper.use_lines = options_.use_lines;
   options_.features.use_lines = options_.use_lines;
-  pipeline_ = std::make_unique<Pipeline>(&map_, camera_, options_);
-  if (options_.use_loop && !options_.tracker.localization_only) {
+  const bool use_loop = options_.use_loop && !options_.tracker.localization_only;
+  const std::shared_ptr<const VocabularySet> vocabulary = placeVocabulary(options_.loop.vocabulary, use_loop);
+  pipeline_ = std::make_unique<Pipeline>(&map_, camera_, options_, vocabulary);
+  if (use_loop) {
     Pipeline* p = pipeline_.get();
-    p->loop = std::make_unique<LoopCloser>(&map_, camera_, options_.loop);
+    p->loop = std::make_unique<LoopCloser>(&map_, camera_, options_.loop, vocabulary);
     p->loop->setCorrectionHook(&p->tracking_mutex, [p](const LoopCorrection& c) { p->tracker.applyMapCorrection(c.T_new_old); });
     // A loaded map's places can be recognised when this session comes back to them.
     if (const int n = p->loop->indexMapKeyframes()) kLog.info(str("loop: ", n, " keyframes of the loaded map indexed"));
@@ -176,6 +193,7 @@ TrackingResult System::feed(const RgbdFrame& frame, const cv::Mat& mask) {
   rec.tracking_ms = msSince(t0);
   rec.stages.add(r.times);
   rec.status = r.status;
+  rec.method = r.method;
   rec.points = static_cast<int>(f.points.size());
   rec.lines = static_cast<int>(f.lines.size());
   rec.matched_points = r.matched_points;
@@ -279,6 +297,28 @@ Trajectory System::keyframeTrajectory() const {
   return out;
 }
 
+namespace {
+/// Each loss that ended in a relocalisation: frames from the first lost frame to the
+/// relocalised one, and the time between their stamps. Losses still open at the end count
+/// in lost_events only.
+void addRecoveries(const std::vector<FrameRecord>& records, RunStats* s) {
+  const FrameRecord* first_lost = nullptr;
+  int lost_frames = 0;
+  for (const FrameRecord& r : records) {
+    const bool tracked = isTracked(r.status);
+    if (!tracked && r.status != TrackingStatus::kNotInitialized) {
+      if (!first_lost) first_lost = &r;
+      ++lost_frames;
+    } else if (tracked && first_lost) {
+      s->recovery_frames.push_back(lost_frames);
+      s->recovery_s.push_back(nsToSeconds(r.t_ns - first_lost->t_ns));
+      first_lost = nullptr;
+      lost_frames = 0;
+    }
+  }
+}
+}  // namespace
+
 RunStats System::stats() const {
   RunStats s;
   s.frames = static_cast<int>(records_.size());
@@ -293,7 +333,9 @@ RunStats System::stats() const {
     s.refined_frames += r.refined;
     s.refinement_ms.push_back(r.refinement_ms);
     for (int i = 0; i < kStageCount; ++i) s.stage_ms[i].push_back(r.stages.ms[i]);
+    ++s.methods[static_cast<int>(r.method)];
   }
+  addRecoveries(records_, &s);
   s.lost_events = pipeline_->tracker.lostEvents();
   s.relocalisations = pipeline_->tracker.relocalisations();
   {

@@ -69,6 +69,7 @@ void bindOptions(OptionTable* table, SystemOptions* options);
 struct FrameRecord {
   TimeNs t_ns = 0;
   TrackingStatus status = TrackingStatus::kNotInitialized;
+  TrackingMethod method = TrackingMethod::kNone;  ///< how the pose was found
   Id reference_keyframe = kNoId;
   SE3 T_ref_c;              ///< pose relative to the reference keyframe (so BA corrections carry over)
   double tracking_ms = 0;   ///< from the frame's arrival to its pose (features included)
@@ -94,6 +95,8 @@ struct RunStats {
   std::vector<double> dynamic_points_rejected, segmentation_ms, mask_age_frames;
   int fresh_segmentations = 0;
   int refined_frames = 0;  ///< frames whose pose was re-estimated against the settled map
+  std::array<int, kTrackingMethodCount> methods{};  ///< frames per TrackingMethod
+  std::vector<double> recovery_frames, recovery_s;  ///< per loss that was recovered: lost frames, seconds to the recovery
   std::vector<double> refinement_ms;  ///< per frame, the refinement of earlier frames feed() did after its pose
   std::array<std::vector<double>, kStageCount> stage_ms;  ///< per stage (core/profile.h), per frame
   bool use_lines = true, sequential = false, use_dynamic = false;

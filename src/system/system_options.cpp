@@ -23,12 +23,36 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
   t->bind("tracker.line_angle_deg", &tr.line_angle_deg, "max angle between a projected map line and a segment (deg)");
   t->bind("tracker.line_distance_px", &tr.line_distance_px, "max distance of segment endpoints to a projected line (px)");
   t->bind("tracker.local_keyframes", &tr.local_keyframes, "keyframes whose landmarks form the local map");
+  t->bind("tracker.covisible_min_shared", &tr.covisible_min_shared,
+          "keyframes sharing this many points with the reference keyframe join the local map");
+  t->bind("tracker.near_plane_m", &tr.near_plane_m, "landmarks nearer the camera than this are not projected (m)");
   t->bind("tracker.keyframe_max_frames", &tr.keyframe_max_frames, "a keyframe at least every this many frames");
   t->bind("tracker.keyframe_min_frames", &tr.keyframe_min_frames, "never a keyframe more often than this");
   t->bind("tracker.keyframe_inlier_ratio", &tr.keyframe_inlier_ratio, "keyframe when inliers < ratio * the reference keyframe's");
   t->bind("tracker.keyframe_min_inliers", &tr.keyframe_min_inliers, "keyframe when fewer inliers than this");
+  t->bind("tracker.keyframe_min_support", &tr.keyframe_min_support,
+          "never a keyframe from a frame with fewer inliers than this (a weak pose would seed the map)");
   t->bind("tracker.keyframe_max_translation_m", &tr.keyframe_max_translation_m, "keyframe after moving this far (m)");
   t->bind("tracker.keyframe_max_rotation_deg", &tr.keyframe_max_rotation_deg, "keyframe after turning this much (deg)");
+  t->bind("tracker.max_speed_m_s", &tr.max_speed_m_s,
+          "a pose that moved the camera faster than this since the last tracked frame is refused (m/s)");
+  t->bind("tracker.reference_fallback", &tr.reference_fallback,
+          "when the motion model fails, match the reference keyframe through the vocabulary before giving up");
+  t->bind("tracker.wide_fallback_factor", &tr.wide_fallback_factor,
+          "then search the prediction in a window this many times wider (<= 1: no)");
+  t->bind("tracker.min_vocabulary_matches", &tr.min_vocabulary_matches,
+          "point + line matches a keyframe needs for a fallback or relocalisation attempt");
+  t->bind("tracker.min_pnp_points", &tr.min_pnp_points, "point matches (and PnP inliers) needed for a PnP pose");
+  t->bind("tracker.pnp_iterations", &tr.pnp_iterations, "PnP RANSAC iterations");
+  t->bind("tracker.pnp_error_px", &tr.pnp_error_px, "PnP RANSAC reprojection threshold (px)");
+  t->bind("tracker.relocalisation_min_inliers", &tr.relocalisation_min_inliers,
+          "pose inliers (points + lines) that accept a relocalisation");
+  t->bind("tracker.relocalisation_recent_keyframes", &tr.relocalisation_recent_keyframes,
+          "without a vocabulary: the recent keyframes relocalisation tries");
+  t->bind("tracker.relocalisation_candidates", &tr.relocalisation.max_candidates,
+          "keyframes of the whole map relocalisation tries, most similar first");
+  t->bind("tracker.relocalisation_min_relative_score", &tr.relocalisation.min_relative_score,
+          "and only those scoring at least this fraction of the most similar");
   t->bind("tracker.pose_rounds", &tr.optimizer.rounds, "pose optimisation outlier rounds");
   t->bind("tracker.pose_iterations", &tr.optimizer.iterations_per_round, "solver iterations per round");
   t->bind("tracker.use_depth", &tr.optimizer.model.use_depth, "depth residuals in pose optimisation");
@@ -61,7 +85,7 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
   t->bind("system.refine_after_frames", &o->refine_after_frames, "... or this many frames");
   t->bind("system.background_nice", &o->background_nice,
           "nice value (0-19) of the mapping and loop threads, so that tracking wins the cores when both want them");
-  t->bind("loop.vocabulary", &l.vocabulary, "bag-of-words vocabulary file (empty: vocab/plslam_orb_lbd.voc of the sources)");
+  t->bind("loop.vocabulary", &l.vocabulary, "bag-of-words vocabulary of loop closure and relocalisation (empty: vocab/plslam_orb_lbd.voc of the sources)");
   t->bind("loop.point_weight", &l.point_weight, "weight of the ORB similarity in the combined score");
   t->bind("loop.line_weight", &l.line_weight, "weight of the LBD similarity in the combined score");
   t->bind("loop.min_normalised_score", &l.min_normalised_score, "candidates need score / best covisible score above this");

@@ -13,9 +13,10 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "dense_cli.h"
+#include "frame_source_open.h"
 #include "io/dataset.h"
-#include "mapfile/map_file.h"
 #include "run_session.h"
+#include "session/run_config.h"
 #include "system/run_outputs.h"
 #include "system/system.h"
 
@@ -23,10 +24,12 @@ namespace plslam::cli {
 
 namespace {
 
-int runRun(int argc, char** argv) {
+// The command line of plslam run.
+Args runArguments() {
   Args args("run", "Point-line RGB-D SLAM over a recorded folder (TUM RGB-D layout, ICL-NUIM, or plslam synth).");
-  args.option("dataset", "folder with rgb.txt and depth.txt (or associations.txt)", "", true)
-      .option("calib", "camera file (ViSP XML, see calib/); with --map, default: the map's camera")
+  args.option("dataset", "folder with rgb.txt and depth.txt (or associations.txt), or a ROS bag (FILE.bag)", "", true)
+      .option("calib", "camera file (ViSP XML, see calib/); with --map, default: the map's camera; a bag's default: its camera_info")
+      .option("groundtruth", "TUM trajectory to evaluate against (default: the folder's groundtruth.txt; a bag has none)")
       .option("out", "output folder (created if needed)", "", true)
       .option("config", "YAML run options (plslam run --print-config shows every key)")
       .option("max-frames", "process only the first N frames (0 = all)", "0")
@@ -57,64 +60,91 @@ int runRun(int argc, char** argv) {
           "origin on the floor below the first camera; map_frame.yaml holds T_map_world).\n"
           "When the folder has groundtruth.txt, the ATE is printed and added to stats.json.\n"
           "Ctrl-C stops the run and still writes what it has.\n\n"
+          "A bag is read in TUM's layout (/camera/rgb/image_color, /camera/depth/image in float metres,\n"
+          "/camera/rgb/camera_info) or the RealSense driver's (/camera/color/image_raw,\n"
+          "/camera/aligned_depth_to_color/image_raw in millimetres, /camera/color/camera_info).\n\n"
           "example: plslam run --dataset rgbd_dataset_freiburg1_xyz --calib calib/tum_freiburg1.xml --out maps/fr1_xyz");
+  return args;
+}
+
+// The figures of a finished run, on stdout.
+void printSummary(const RunStats& st, const FrameSource& dataset, const std::string& ate_line, const std::string& out) {
+  const Summary tms = summarize(st.tracking_ms);
+  std::printf("frames %d, tracked %d (%.1f%%), keyframes %d, lost %d, map %d points %d lines\n", st.frames, st.tracked,
+              st.frames ? 100.0 * st.tracked / st.frames : 0.0, st.keyframes, st.lost_events, st.map_points, st.map_lines);
+  std::printf("tracking %.1f ms/frame median, %.1f p95, %.1f max; line reconstruction rate: fitting %.3f, endpoints %.3f\n",
+              tms.median, tms.p95, tms.max, st.line_rate_fitting, st.line_rate_endpoints);
+  const std::string skipped = dataset.skippedText();
+  if (!skipped.empty()) std::printf("skipped %d of %zu frames: %s\n", dataset.skippedTotal(), dataset.size(), skipped.c_str());
+  if (!ate_line.empty()) std::printf("%s\n", ate_line.c_str());
+  std::printf("outputs: %s\n", out.c_str());
+}
+
+// The switches of the command line that shape the System (session/run_config.h).
+RunSwitches runSwitches(const Args& args) {
+  RunSwitches switches;
+  switches.config = args.str("config");
+  switches.map = args.str("map");
+  switches.localize = args.has("localize");
+  switches.sequential = args.has("sequential");
+  switches.no_lines = args.has("no-lines");
+  switches.no_dynamic = args.has("no-dynamic");
+  switches.no_loop = args.has("no-loop");
+  switches.segmenter = args.str("segmenter");
+  switches.classes = args.str("classes");
+  switches.dynamic_classes = args.str("dynamic-classes");
+  switches.allow_missing_model = args.has("allow-missing-model");
+  return switches;
+}
+
+// The folder or bag of --dataset with the camera its frames are read with (--calib, a
+// bag's camera_info, or the saved map's camera), and the replay segmenter's labels.
+OpenedSource openRunSource(const Args& args, RunConfig* config) {
+  std::optional<PinholeCamera> calib;
+  if (args.has("calib")) calib = loadCameraFile(args.str("calib"));
+  else if (config->map && !isBagPath(args.str("dataset"))) calib = config->map->camera;
+  DatasetOptions dopt;
+  dopt.max_frames = args.integer("max-frames", 0, 100000000);
+  dopt.groundtruth_file = args.str("groundtruth");
+  OpenedSource opened = openFrameSource(args.str("dataset"), calib ? &*calib : nullptr, dopt);
+  const FrameSource& dataset = *opened.source;
+  const PinholeCamera& camera = opened.camera;
+  if (config->map && (camera.width != config->map->camera.width || camera.height != config->map->camera.height ||
+                      camera.fx != config->map->camera.fx || camera.fy != config->map->camera.fy))
+    std::fprintf(stderr, "[run] warning: the camera differs from the one the map was built with\n");
+  SegmenterOptions& segmenter = config->options.segmenter;
+  if (segmenter.kind == SegmenterKind::kReplay) {
+    const auto* folder = dynamic_cast<const TumDataset*>(&dataset);
+    if (!folder || (folder->instanceLabels().empty() && folder->listReport().masks_listed == 0))
+      throw ConfigError("plslam run: --segmenter replay needs a folder with masks.txt (plslam synth writes one): " +
+                        dataset.location());
+    segmenter.replay_labels = replayLabels(*folder);
+  }
+  return opened;
+}
+
+int runRun(int argc, char** argv) {
+  Args args = runArguments();
   if (!args.parse(argc, argv)) return 0;
   setLogLevel(parseLogLevel(args.str("log-level")));
 
-  SystemOptions options;
-  OptionTable table;
-  std::optional<LoadedMap> loaded;
-  if (args.has("localize") && !args.has("map")) throw ConfigError("plslam run: --localize needs --map FILE");
-  if (!args.has("calib") && !args.has("map")) throw ConfigError("plslam run: --calib is required (or --map)");
-  if (args.has("map")) {
-    // The map's own configuration first (same features and tracking), then --config over it.
-    loaded = loadMap(args.str("map"));
-    bindOptions(&table, &options);
-    if (!loaded->config_yaml.empty())
-      table.apply(parseYamlSubset(loaded->config_yaml, args.str("map")), args.str("map") + " (saved configuration)");
-    if (args.has("config")) table.apply(parseYamlSubset(readTextFile(args.str("config")), args.str("config")), args.str("config"));
-    options.tracker.localization_only = args.has("localize");
-  } else {
-    loadRunConfig(args.has("config") ? args.str("config") : std::string(), &options, &table);
+  const bool bag = isBagPath(args.str("dataset"));
+  RunConfig config;
+  try {
+    config = makeRunConfig(runSwitches(args), "plslam run: effective configuration");
+  } catch (const ConfigError& e) {
+    throw ConfigError(std::string("plslam run: ") + e.what());
   }
-  if (args.has("sequential")) options.sequential = true;
-  if (args.has("no-lines")) options.use_lines = false;
-  if (args.has("no-dynamic")) options.dynamic.enabled = false;
-  if (args.has("no-loop")) options.use_loop = false;
-  const std::string segmenter = args.str("segmenter");
-  if (segmenter == "none" || segmenter == "replay") {
-    options.segmenter.kind = parseSegmenterKind(segmenter);
-  } else {
-    options.segmenter.kind = SegmenterKind::kYolo;
-    options.segmenter.yolo.model_path = segmenter;
-  }
-  options.segmenter.classes_file = args.str("classes");
-  if (args.has("dynamic-classes")) {
-    std::vector<std::string> names;
-    std::stringstream list(args.str("dynamic-classes"));
-    for (std::string name; std::getline(list, name, ',');)
-      if (!name.empty()) names.push_back(name);
-    options.segmenter.dynamic_classes = names;
-  }
-  options.segmenter.allow_missing_model = args.has("allow-missing-model");
+  if (!bag && !args.has("calib") && !args.has("map")) throw ConfigError("plslam run: --calib is required (or --map)");
+  SystemOptions& options = config.options;
   if (args.has("print-config")) {
-    std::cout << table.toYaml("plslam run: effective configuration");
+    std::cout << config.config_yaml;
     return 0;
   }
 
-  const PinholeCamera camera = args.has("calib") ? loadCameraFile(args.str("calib")) : loaded->camera;
-  if (loaded && (camera.width != loaded->camera.width || camera.height != loaded->camera.height ||
-                 camera.fx != loaded->camera.fx || camera.fy != loaded->camera.fy))
-    std::fprintf(stderr, "[run] warning: --calib differs from the camera the map was built with\n");
-  DatasetOptions dopt;
-  dopt.max_frames = args.integer("max-frames", 0, 100000000);
-  TumDataset dataset = TumDataset::open(args.str("dataset"), camera, dopt);
-  if (options.segmenter.kind == SegmenterKind::kReplay) {
-    if (dataset.instanceLabels().empty() && dataset.listReport().masks_listed == 0)
-      throw ConfigError("plslam run: --segmenter replay needs a folder with masks.txt (plslam synth writes one): " +
-                        dataset.dir());
-    options.segmenter.replay_labels = replayLabels(dataset);
-  }
+  OpenedSource opened = openRunSource(args, &config);
+  FrameSource& dataset = *opened.source;
+  const PinholeCamera camera = opened.camera;
   const std::string out = args.str("out");
   // Refuse an unusable output folder before the run, not after it.
   {
@@ -124,7 +154,7 @@ int runRun(int argc, char** argv) {
       throw IoError(out + ": cannot create the output folder" + (ec ? " (" + ec.message() + ")" : std::string()));
   }
 
-  System slam(camera, options, loaded ? std::move(loaded->map) : Map());
+  System slam(camera, options, config.map ? std::move(config.map->map) : Map());
   slam.start();
   const bool progress = !args.has("quiet");
   FeedResult fed;
@@ -140,7 +170,7 @@ int runRun(int argc, char** argv) {
   }
   if (fed.interrupted) std::fprintf(stderr, "[run] interrupted: finishing and writing what there is\n");
   slam.finish();
-  const std::string skipped = skippedFramesText(dataset);
+  const std::string skipped = dataset.skippedText();
   // A run that tracked nothing has no result: say why and leave the output folder as it was.
   if (fed.tracked == 0) {
     if (fed.interrupted) {
@@ -148,9 +178,9 @@ int runRun(int argc, char** argv) {
       return 130;
     }
     if (fed.fed == 0)
-      throw DataError(str(dataset.dir(), ": none of the ", dataset.size(), " frames could be loaded (", skipped,
+      throw DataError(str(dataset.location(), ": none of the ", dataset.size(), " frames could be loaded (", skipped,
                           "); see the messages above for each file"));
-    throw DataError(str(dataset.dir(), ": none of the ", fed.fed, " frames loaded could be tracked (last reason: ",
+    throw DataError(str(dataset.location(), ": none of the ", fed.fed, " frames loaded could be tracked (last reason: ",
                         fed.last_failure, ")", skipped.empty() ? "" : "; skipped: " + skipped));
   }
 
@@ -158,22 +188,14 @@ int runRun(int argc, char** argv) {
   const std::string ate_line = evaluation.text();
   // The dense products first: the floor of their cloud gives the map frame of every output
   // (a loaded map keeps its own, so that its sessions share one map frame).
-  std::optional<MapFrame> frame = loaded ? loaded->frame : std::nullopt;
+  std::optional<MapFrame> frame = config.map ? config.map->frame : std::nullopt;
   const bool dense = !args.has("no-dense") && options.dense.enabled;
   const bool dense_done = !dense || writeDenseMaps(slam.map(), camera, options.dense, {}, out, progress,
                                                    frame ? &*frame : nullptr, &frame);
-  writeRunOutputs(out, slam, table.toYaml("plslam run: effective configuration"), runStatsExtra(dataset, evaluation),
+  writeRunOutputs(out, slam, config.config_yaml, runStatsExtra(dataset, evaluation),
                   args.has("save-map") ? args.str("save-map") : std::string(), frame ? &*frame : nullptr);
 
-  const RunStats st = slam.stats();
-  const Summary tms = summarize(st.tracking_ms);
-  std::printf("frames %d, tracked %d (%.1f%%), keyframes %d, lost %d, map %d points %d lines\n", st.frames, st.tracked,
-              st.frames ? 100.0 * st.tracked / st.frames : 0.0, st.keyframes, st.lost_events, st.map_points, st.map_lines);
-  std::printf("tracking %.1f ms/frame median, %.1f p95, %.1f max; line reconstruction rate: fitting %.3f, endpoints %.3f\n",
-              tms.median, tms.p95, tms.max, st.line_rate_fitting, st.line_rate_endpoints);
-  if (!skipped.empty()) std::printf("skipped %d of %zu frames: %s\n", dataset.skippedTotal(), dataset.size(), skipped.c_str());
-  if (!ate_line.empty()) std::printf("%s\n", ate_line.c_str());
-  std::printf("outputs: %s\n", out.c_str());
+  printSummary(slam.stats(), dataset, ate_line, out);
   if (!dense_done) return 130;
   return fed.interrupted ? 130 : 0;
 }

@@ -8,6 +8,7 @@
 #include "args.h"
 #include "commands.h"
 #include "core/error.h"
+#include "core/log.h"
 #include "synth/dataset.h"
 #include "synth/scene.h"
 
@@ -17,13 +18,17 @@ namespace {
 
 int runSynth(int argc, char** argv) {
   Args args("synth", "Render a synthetic RGB-D scene (colour, depth, instance masks, exact ground truth).");
-  args.option("scene", "static, dynamic, loop or crowded", "static")
+  args.option("scene", "static, dynamic, loop, crowded or fast", "static")
       .option("frames", "number of frames at 30 Hz [default: 300; loop: 450, one lap]")
       .option("out", "output folder (TUM layout: rgb/ depth/ masks/ rgb.txt depth.txt masks.txt groundtruth.txt ...)")
       .option("laps", "loop scene: laps round the room over the frames (e.g. --frames 5000 --laps 11 for a long run)", "1")
       .option("seed", "seed of the textures and the noise", "1")
       .flag("no-noise", "exact depth: no depth noise, no dropouts, no colour noise")
       .flag("twin-shelf", "add copies of the shelf's boxes and books (same textures) on the floor by the south wall, in another layout")
+      .option("max-rotation", "fast scene: peak rotation rate of the bursts, deg/s", "180")
+      .option("exposure-ms", "fast scene: exposure time centred on each stamp (motion blur)", "12")
+      .flag("no-blur", "fast scene: sharp images (colour at the stamp only)")
+      .flag("no-gain", "fast scene: constant exposure gain")
       .option("width", "image width (the focal length scales with it)", "640")
       .option("height", "image height", "480")
       .option("depth-offset-ms", "depth stamps = colour stamps + this many milliseconds", "0")
@@ -32,7 +37,8 @@ int runSynth(int argc, char** argv) {
       .epilog(
           "At least one of --out and --preview is needed. The same options and seed give\n"
           "byte-identical files. Example:\n"
-          "  plslam synth --scene dynamic --frames 300 --out /tmp/dyn --preview /tmp/dyn.png");
+          "  plslam synth --scene dynamic --frames 300 --out /tmp/dyn --preview /tmp/dyn.png\n"
+          "  plslam synth --scene fast --out /tmp/fast    (blurred, varying gain; --no-blur --no-gain to separate them)");
   if (!args.parse(argc, argv)) return 0;
   if (!args.has("out") && !args.has("preview")) throw ConfigError("plslam synth: give --out DIR and/or --preview FILE.png");
 
@@ -53,6 +59,13 @@ int runSynth(int argc, char** argv) {
   opt.twin_shelf = args.has("twin-shelf");
   opt.laps = args.integer("laps", 1, 10000);
   if (opt.laps != 1 && kind != synth::SceneKind::kLoop) throw ConfigError("plslam synth: --laps is for the loop scene");
+  for (const char* fast_only : {"max-rotation", "exposure-ms", "no-blur", "no-gain"})
+    if (args.has(fast_only) && kind != synth::SceneKind::kFast)
+      throw ConfigError(str("plslam synth: --", fast_only, " is for the fast scene"));
+  opt.fast.max_rotation_deg_s = args.number("max-rotation");
+  opt.fast.exposure_ms = args.number("exposure-ms");
+  opt.fast.motion_blur = !args.has("no-blur");
+  opt.fast.gain = !args.has("no-gain");
   const synth::Scene scene = synth::makeScene(kind, opt);
 
   if (args.has("out")) {
@@ -82,7 +95,7 @@ int runSynth(int argc, char** argv) {
 }  // namespace
 
 Command makeSynthCommand() {
-  return {"synth", "render a synthetic RGB-D scene with ground truth (static, dynamic, loop, crowded)", runSynth};
+  return {"synth", "render a synthetic RGB-D scene with ground truth (static, dynamic, loop, crowded, fast)", runSynth};
 }
 
 }  // namespace plslam::cli

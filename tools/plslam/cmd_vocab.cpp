@@ -12,7 +12,7 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "frontend/feature_extraction.h"
-#include "loop/vocabulary.h"
+#include "place/vocabulary.h"
 
 namespace plslam::cli {
 

@@ -5,7 +5,6 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
-#include <fstream>
 #include <optional>
 #include <sstream>
 #include <thread>
@@ -20,19 +19,6 @@ std::atomic<bool> g_interrupted{false};
 extern "C" void onSigint(int) { g_interrupted = true; }
 }  // namespace
 
-std::string readTextFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(path + ": cannot open configuration file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-void loadRunConfig(const std::string& config_path, SystemOptions* options, OptionTable* table) {
-  bindOptions(table, options);
-  if (!config_path.empty()) table->apply(parseYamlSubset(readTextFile(config_path), config_path), config_path);
-}
-
 std::vector<InstanceClass> replayLabels(const TumDataset& dataset) {
   std::vector<InstanceClass> out;
   for (const InstanceLabel& l : dataset.instanceLabels()) out.push_back({l.instance_id, l.class_id, l.class_name});
@@ -46,7 +32,7 @@ SigintGuard::SigintGuard() {
 SigintGuard::~SigintGuard() { std::signal(SIGINT, previous_ == SIG_ERR ? SIG_DFL : previous_); }
 bool SigintGuard::interrupted() { return g_interrupted; }
 
-FeedResult feedFrames(System* slam, TumDataset* dataset, const std::function<void(const FeedProgress&)>& progress,
+FeedResult feedFrames(System* slam, FrameSource* source, const std::function<void(const FeedProgress&)>& progress,
                       int period_ms, Pace pace) {
   FeedResult result;
   const auto t0 = std::chrono::steady_clock::now();
@@ -60,7 +46,7 @@ FeedResult feedFrames(System* slam, TumDataset* dataset, const std::function<voi
     any_report = true;
     FeedProgress p;
     p.done = result.fed;
-    p.total = dataset->size();
+    p.total = source->size();
     p.tracked = result.tracked;
     p.keyframes = slam->map().keyframes().size();
     p.seconds = std::chrono::duration<double>(now - t0).count();
@@ -68,7 +54,7 @@ FeedResult feedFrames(System* slam, TumDataset* dataset, const std::function<voi
   };
   RgbdFrame frame;
   std::optional<TimeNs> first_stamp;
-  while (!g_interrupted && dataset->next(&frame)) {
+  while (!g_interrupted && source->next(&frame)) {
     if (pace == Pace::kRecorded) {
       if (!first_stamp) first_stamp = frame.t_ns;
       std::this_thread::sleep_until(t0 + std::chrono::nanoseconds(frame.t_ns - *first_stamp));
@@ -105,12 +91,12 @@ std::string RunEvaluation::text() const {
   return buf;
 }
 
-RunEvaluation evaluateRun(const TumDataset& dataset, const Trajectory& estimate) {
+RunEvaluation evaluateRun(const FrameSource& source, const Trajectory& estimate) {
   RunEvaluation ev;
-  if (!dataset.hasGroundtruth() || estimate.size() < 3) return ev;
+  if (!source.hasGroundtruth() || estimate.size() < 3) return ev;
   ev.attempted = true;
   try {
-    ev.result = evaluate(dataset.groundtruth(), estimate);
+    ev.result = evaluate(source.groundtruth(), estimate);
     ev.ok = true;
   } catch (const Error& e) {
     ev.error = e.what();
@@ -118,18 +104,9 @@ RunEvaluation evaluateRun(const TumDataset& dataset, const Trajectory& estimate)
   return ev;
 }
 
-std::string skippedFramesText(const TumDataset& dataset) {
-  std::string text;
-  for (int s = 1; s < kFrameStatusCount; ++s) {
-    const int n = dataset.count(static_cast<FrameStatus>(s));
-    if (n > 0) text += (text.empty() ? "" : ", ") + std::to_string(n) + " " + toString(static_cast<FrameStatus>(s));
-  }
-  return text;
-}
-
-std::string runStatsExtra(const TumDataset& dataset, const RunEvaluation& evaluation) {
+std::string runStatsExtra(const FrameSource& source, const RunEvaluation& evaluation) {
   std::string extra =
-      "\"dataset\": " + jsonQuote(dataset.dir()) + ", \"skipped_frames\": " + std::to_string(dataset.skippedTotal());
+      "\"dataset\": " + jsonQuote(source.location()) + ", \"skipped_frames\": " + std::to_string(source.skippedTotal());
   const std::string ev = evaluation.jsonMembers();
   if (!ev.empty()) extra += ", " + ev;
   return extra;

@@ -1,6 +1,7 @@
-// Pieces shared by `plslam run` and `plslam bench` (and `eval loops`): the run configuration, feeding a
-// recorded folder to a System (progress callback, Ctrl-C), and the evaluation of the
-// resulting trajectory against the folder's ground truth.
+// Pieces shared by `plslam run` and `plslam bench` (and `eval loops`): feeding a recorded
+// folder or bag to a System (progress callback, Ctrl-C), and the evaluation of the
+// resulting trajectory against its ground truth. The run configuration itself is
+// session/run_config.h, shared with the ROS node.
 #pragma once
 
 #include <cstddef>
@@ -13,15 +14,11 @@
 #include "core/trajectory.h"
 #include "eval/trajectory_eval.h"
 #include "io/dataset.h"
+#include "io/frame_source.h"
+#include "session/run_config.h"
 #include "system/system.h"
 
 namespace plslam::cli {
-
-/// The whole content of a text file; IoError naming it when it cannot be read.
-std::string readTextFile(const std::string& path);
-
-/// Binds `options` into `table` and applies the YAML file `config_path` (none when empty).
-void loadRunConfig(const std::string& config_path, SystemOptions* options, OptionTable* table);
 
 /// The classes of the instance ids in `dataset`'s masks (masks.txt), for the replay segmenter.
 std::vector<InstanceClass> replayLabels(const TumDataset& dataset);
@@ -65,10 +62,10 @@ enum class Pace {
                       ///< frame that is late is fed at once (no catching up by skipping)
 };
 
-/// Feeds every loadable frame of `dataset` (from its current position) to the started
+/// Feeds every loadable frame of `source` (from its current position) to the started
 /// `slam`; stops early on Ctrl-C while a SigintGuard lives. `progress` (may be empty) is
 /// called at most every `period_ms` and once after the last frame.
-FeedResult feedFrames(System* slam, TumDataset* dataset, const std::function<void(const FeedProgress&)>& progress,
+FeedResult feedFrames(System* slam, FrameSource* source, const std::function<void(const FeedProgress&)>& progress,
                       int period_ms = 500, Pace pace = Pace::kAsFastAsPossible);
 
 /// The comparison of a run's trajectory with the folder's ground truth.
@@ -84,13 +81,10 @@ struct RunEvaluation {
   /// One line for people: the figures, or why they are missing; empty when not attempted.
   std::string text() const;
 };
-/// Evaluates `estimate` against dataset.groundtruth() (TUM benchmark definitions).
-RunEvaluation evaluateRun(const TumDataset& dataset, const Trajectory& estimate);
+/// Evaluates `estimate` against source.groundtruth() (TUM benchmark definitions).
+RunEvaluation evaluateRun(const FrameSource& source, const Trajectory& estimate);
 
-/// The frames skipped so far by reason, e.g. "2 unreadable image, 1 missing file" (empty: none).
-std::string skippedFramesText(const TumDataset& dataset);
-
-/// The extra stats.json members of a run: dataset folder, skipped frames, evaluation.
-std::string runStatsExtra(const TumDataset& dataset, const RunEvaluation& evaluation);
+/// The extra stats.json members of a run: dataset folder or bag, skipped frames, evaluation.
+std::string runStatsExtra(const FrameSource& source, const RunEvaluation& evaluation);
 
 }  // namespace plslam::cli

@@ -1,9 +1,16 @@
-#include "loop/keyframe_database.h"
+#include "place/keyframe_database.h"
 
 #include <algorithm>
 #include <cmath>
 
 namespace plslam {
+
+KeyframeBow describeBow(const VocabularySet& vocabulary, const FrameFeatures& f) {
+  KeyframeBow b;
+  b.orb = vocabulary.orb.transform(f.point_descriptors);
+  b.lbd = vocabulary.lbd.transform(f.line_descriptors);
+  return b;
+}
 
 void KeyframeDatabase::addTo(Index* index, Id keyframe, const BowVector& v) {
   for (const auto& [w, value] : v) (*index)[w].emplace_back(keyframe, value);

@@ -1,4 +1,4 @@
-#include "loop/vocabulary.h"
+#include "place/vocabulary.h"
 
 #include <algorithm>
 #include <cmath>
@@ -220,10 +220,12 @@ void Vocabulary::finalise() {
   }
 }
 
-int Vocabulary::word(const uint8_t* d) const {
+int Vocabulary::word(const uint8_t* d, int node_depth, int* node) const {
+  if (node) *node = -1;
   if (nodes_.empty()) return -1;
   int n = 0;
-  while (!nodes_[n].children.empty()) {
+  for (int depth = 0; !nodes_[n].children.empty(); ++depth) {
+    if (node && depth == node_depth) *node = n;
     int best = nodes_[n].children.front(), best_d = 257;
     for (int c : nodes_[n].children) {
       const int dist = hamming(nodes_[c].centre, d);
@@ -231,6 +233,7 @@ int Vocabulary::word(const uint8_t* d) const {
     }
     n = best;
   }
+  if (node && *node < 0) *node = n;
   return nodes_[n].word;
 }
 

@@ -9,8 +9,9 @@
 #include <unordered_map>
 #include <vector>
 
+#include "core/frame.h"
 #include "core/map.h"
-#include "loop/vocabulary.h"
+#include "place/vocabulary.h"
 
 namespace plslam {
 
@@ -19,6 +20,9 @@ struct KeyframeBow {
   BowVector orb;  ///< ORB words
   BowVector lbd;  ///< LBD words
 };
+
+/// Bags of words of one keyframe's features.
+KeyframeBow describeBow(const VocabularySet& vocabulary, const FrameFeatures& features);
 
 /// One keyframe's similarity to a query.
 struct DatabaseScore {

@@ -5,7 +5,7 @@
 #include <random>
 
 #include "core/error.h"
-#include "loop/vocabulary.h"
+#include "place/vocabulary.h"
 #include "support/test_support.h"
 
 using namespace plslam;

@@ -61,7 +61,10 @@ class Vocabulary {
   int trainingImages() const { return training_images_; }
 
   /// The word of one 32-byte descriptor (descending the tree by Hamming distance); -1 when empty.
-  int word(const uint8_t* descriptor) const;
+  /// `node` (optional) gets the node passed through `node_depth` levels below the root (the
+  /// leaf when the tree is shallower): descriptors under one node are near each other, which
+  /// is what matching through the vocabulary groups by (place/vocabulary_matching.h).
+  int word(const uint8_t* descriptor, int node_depth = 0, int* node = nullptr) const;
   /// tf-idf vector of an image's descriptors (rows of CV_8U, 32 columns), L1-normalised.
   /// `words` (optional) gets each row's word.
   BowVector transform(const cv::Mat& descriptors, std::vector<int>* words = nullptr) const;

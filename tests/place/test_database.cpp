@@ -1,7 +1,7 @@
 // The inverted-index keyframe database: DBoW2 L1 scores on known vectors, add / remove.
 #include <gtest/gtest.h>
 
-#include "loop/keyframe_database.h"
+#include "place/keyframe_database.h"
 
 using namespace plslam;
 

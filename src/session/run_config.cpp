@@ -1,0 +1,71 @@
+#include "session/run_config.h"
+
+#include <fstream>
+#include <sstream>
+
+#include "core/error.h"
+
+namespace plslam {
+
+std::string readTextFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path + ": cannot open configuration file");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+void loadRunConfig(const std::string& config_path, SystemOptions* options, OptionTable* table) {
+  bindOptions(table, options);
+  if (!config_path.empty()) table->apply(parseYamlSubset(readTextFile(config_path), config_path), config_path);
+}
+
+namespace {
+
+// The segmenter, dynamic classes and feature switches, over whatever the files said.
+void applySwitches(const RunSwitches& s, SystemOptions* options) {
+  if (s.sequential) options->sequential = true;
+  if (s.no_lines) options->use_lines = false;
+  if (s.no_dynamic) options->dynamic.enabled = false;
+  if (s.no_loop) options->use_loop = false;
+  if (s.segmenter == "none" || s.segmenter == "replay") {
+    options->segmenter.kind = parseSegmenterKind(s.segmenter);
+  } else {
+    options->segmenter.kind = SegmenterKind::kYolo;
+    options->segmenter.yolo.model_path = s.segmenter;
+  }
+  options->segmenter.classes_file = s.classes;
+  if (!s.dynamic_classes.empty()) {
+    std::vector<std::string> names;
+    std::stringstream list(s.dynamic_classes);
+    for (std::string name; std::getline(list, name, ',');)
+      if (!name.empty()) names.push_back(name);
+    options->segmenter.dynamic_classes = names;
+  }
+  options->segmenter.allow_missing_model = s.allow_missing_model;
+}
+
+}  // namespace
+
+RunConfig makeRunConfig(const RunSwitches& switches, const std::string& title) {
+  if (switches.localize && switches.map.empty()) throw ConfigError("--localize needs --map FILE");
+  RunConfig config;
+  OptionTable table;
+  if (!switches.map.empty()) {
+    // The map's own configuration first (same features and tracking), then the file over it.
+    config.map = loadMap(switches.map);
+    bindOptions(&table, &config.options);
+    if (!config.map->config_yaml.empty())
+      table.apply(parseYamlSubset(config.map->config_yaml, switches.map), switches.map + " (saved configuration)");
+    if (!switches.config.empty())
+      table.apply(parseYamlSubset(readTextFile(switches.config), switches.config), switches.config);
+    config.options.tracker.localization_only = switches.localize;
+  } else {
+    loadRunConfig(switches.config, &config.options, &table);
+  }
+  applySwitches(switches, &config.options);
+  config.config_yaml = table.toYaml(title);
+  return config;
+}
+
+}  // namespace plslam

@@ -1,0 +1,276 @@
+// The plslam_ros node end to end, on a private rosmaster (127.0.0.1, free port): the
+// synthetic static sequence published as RealSense topics at 30 Hz, restamped with the
+// publication time (so the node's latency is image stamp -> pose), and checks of the TF
+// tree, the poses (ATE against the scene's ground truth, next to `plslam run` threaded on
+// the same frames), the sparse map in the map frame, the save service and the outputs
+// written on SIGINT. Prints the latency and drop figures that docs/RESULTS.md quotes;
+// PLSLAM_ROS_NODE_PARAMS (e.g. "_queue:=1") adds node parameters for such measurements.
+#include <gtest/gtest.h>
+#include <geometry_msgs/PoseStamped.h>
+#include <ros/ros.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <signal.h>
+#include <std_srvs/Trigger.h>
+#include <sys/wait.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/static_transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <sstream>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "camera/camera_file.h"
+#include "eval/trajectory_eval.h"
+#include "io/dataset.h"
+#include "io/trajectory_file.h"
+#include "ros1/msg_convert.h"
+#include "ros_fixture.h"
+#include "support/test_support.h"
+#include "synthetic_cache.h"
+
+using namespace plslam;
+namespace fs = std::filesystem;
+
+namespace {
+
+pid_t startNode(const std::string& out, const std::vector<std::string>& params) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const std::string exe = test::binaryDir() + "/plslam_ros";
+    std::vector<std::string> args = {exe, "__name:=plslam", "_out:=" + out};
+    args.insert(args.end(), params.begin(), params.end());
+    if (const char* extra = std::getenv("PLSLAM_ROS_NODE_PARAMS")) {
+      std::istringstream words(extra);
+      for (std::string w; words >> w;) args.push_back(w);
+    }
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execv(exe.c_str(), argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+int stopNode(pid_t pid) {
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5))];
+}
+
+// How CameraPlayer::play sends a folder.
+struct Play {
+  std::string camera_file;   ///< empty: <folder>/camera.xml
+  bool restamp = true;       ///< stamp each frame when it is sent (else: the folder's stamps)
+  bool millimetres = true;   ///< depth as 16UC1 millimetres (else 32FC1 metres)
+};
+
+// This test process as a ROS node: the camera's publishers, and what it hears back.
+class CameraPlayer {
+ public:
+  CameraPlayer() {
+    int argc = 1;
+    char name[] = "plslam_test";
+    char* argv[] = {name, nullptr};
+    if (!ros::isInitialized())
+      ros::init(argc, argv, "plslam_test", ros::init_options::NoSigintHandler | ros::init_options::AnonymousName);
+    nh_ = std::make_unique<ros::NodeHandle>();
+    spinner_ = std::make_unique<ros::AsyncSpinner>(2);
+    spinner_->start();
+    tf_listener_ = std::make_unique<tf2_ros::TransformListener>(tf_buffer);
+    pose_sub_ = nh_->subscribe<geometry_msgs::PoseStamped>("/plslam/camera_pose", 400, [this](const auto& msg) {
+      std::lock_guard<std::mutex> lock(mutex);
+      latency_ms[ros1::toNs(msg->header.stamp)] = (ros::Time::now() - msg->header.stamp).toSec() * 1000.0;
+    });
+    base_sub_ = nh_->subscribe<geometry_msgs::PoseStamped>("/plslam/base_pose", 400, [this](const auto& msg) {
+      std::lock_guard<std::mutex> lock(mutex);
+      last_base = *msg;
+    });
+    cloud_sub_ = nh_->subscribe<sensor_msgs::PointCloud2>("/plslam/sparse_points", 1, [this](const auto& msg) {
+      std::lock_guard<std::mutex> lock(mutex);
+      cloud_frame = msg->header.frame_id;
+      cloud_points = static_cast<size_t>(msg->width) * msg->height;
+    });
+    colour_pub_ = nh_->advertise<sensor_msgs::Image>("/camera/color/image_raw", 5);
+    depth_pub_ = nh_->advertise<sensor_msgs::Image>("/camera/aligned_depth_to_color/image_raw", 5);
+    info_pub_ = nh_->advertise<sensor_msgs::CameraInfo>("/camera/color/camera_info", 1, true);
+  }
+  ~CameraPlayer() { spinner_->stop(); }
+
+  /// Waits for the node's subscriptions, then plays `folder` at 30 Hz. With restamp, returns
+  /// the ground truth (one pose per frame, as plslam synth writes it) under the new stamps.
+  Trajectory play(const std::string& folder, int frames, const Play& how = Play()) {
+    const PinholeCamera camera = loadCameraFile(how.camera_file.empty() ? folder + "/camera.xml" : how.camera_file);
+    TumDataset dataset = TumDataset::open(folder, camera);
+    sensor_msgs::CameraInfo info = ros1::infoFromCamera(camera);
+    info.header.frame_id = "camera_color_optical_frame";
+    info_pub_.publish(info);
+    for (int i = 0; i < 200 && (colour_pub_.getNumSubscribers() == 0 || depth_pub_.getNumSubscribers() == 0 ||
+                                info_pub_.getNumSubscribers() == 0); ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    EXPECT_GT(colour_pub_.getNumSubscribers(), 0u) << "the node did not subscribe";
+    std::this_thread::sleep_for(std::chrono::seconds(1));  // the latched camera_info reaches it first
+    Trajectory groundtruth;
+    RgbdFrame frame;
+    ros::WallRate rate(30.0);
+    for (int i = 0; i < frames && dataset.next(&frame); ++i) {
+      sensor_msgs::Image colour = ros1::bgrToImage(frame.bgr, "rgb8");
+      sensor_msgs::Image depth = ros1::depthToImage(frame.depth_m, how.millimetres);
+      colour.header.frame_id = depth.header.frame_id = "camera_color_optical_frame";
+      colour.header.stamp = depth.header.stamp = how.restamp ? ros::Time::now() : ros1::toRosTime(frame.t_ns);
+      if (how.restamp) groundtruth.push_back({ros1::toNs(colour.header.stamp), dataset.groundtruth()[i].T_w_c});
+      colour_pub_.publish(colour);
+      depth_pub_.publish(depth);
+      rate.sleep();
+    }
+    std::this_thread::sleep_for(std::chrono::seconds(3));  // the last frames' poses, a sparse map refresh
+    return groundtruth;
+  }
+
+  tf2_ros::Buffer tf_buffer;
+  std::mutex mutex;
+  std::map<TimeNs, double> latency_ms;  // pose stamp -> receive time - stamp
+  geometry_msgs::PoseStamped last_base;
+  std::string cloud_frame;
+  size_t cloud_points = 0;
+
+ private:
+  std::unique_ptr<ros::NodeHandle> nh_;
+  std::unique_ptr<ros::AsyncSpinner> spinner_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  ros::Subscriber pose_sub_, base_sub_, cloud_sub_;
+  ros::Publisher colour_pub_, depth_pub_, info_pub_;
+};
+
+}  // namespace
+
+TEST(RosNode, PublishesPosesTfAndMapsAndWritesOutputs) {
+  constexpr int kFrames = 300;
+  test::RosMaster master;
+  ASSERT_TRUE(master.ok()) << master.why();
+  const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, kFrames);
+  const std::string scratch = test::scratchDir("rosnode");
+  const std::string out = scratch + "/node";
+  const pid_t node = startNode(out, {"_sparse_period:=0.5"});
+  ASSERT_GT(node, 0);
+  CameraPlayer player;
+  const Trajectory groundtruth = player.play(folder, kFrames);
+
+  // TF: map -> base_footprint (no odometry frame given).
+  EXPECT_TRUE(player.tf_buffer.canTransform("map", "base_footprint", ros::Time(0), ros::Duration(1.0)));
+  {
+    std::lock_guard<std::mutex> lock(player.mutex);
+    EXPECT_EQ(player.cloud_frame, "map");
+    EXPECT_GT(player.cloud_points, 100u);
+    // How many frames the node keeps up with depends on the machine's load; it drops the
+    // oldest rather than fall behind, so only a fair share is required here.
+    EXPECT_GT(player.latency_ms.size(), kFrames / 5u);
+  }
+  // The save service writes the outputs while the node runs; `plslam export` reads its map.
+  std_srvs::Trigger save;
+  ASSERT_TRUE(ros::service::call("/plslam/save_map", save));
+  EXPECT_TRUE(save.response.success) << save.response.message;
+  const auto exported = test::runPlslam("export --map " + out + "/map.plmap --out " + scratch + "/export --grid");
+  EXPECT_EQ(exported.status, 0) << exported.output;
+  EXPECT_TRUE(fs::exists(scratch + "/export/grid.pgm"));
+
+  EXPECT_EQ(stopNode(node), 0);
+  for (const char* f : {"trajectory.txt", "stats.json", "map.plmap", "dense_cloud.pcd", "grid.pgm"})
+    EXPECT_TRUE(fs::exists(out + "/" + f)) << f;
+  const EvalResult node_ev = evaluate(groundtruth, readTumTrajectory(out + "/trajectory.txt"));
+  // plslam run, threaded, on the same frames.
+  const auto run = test::runPlslam("run --dataset " + folder + " --calib " + folder + "/camera.xml --out " + scratch +
+                                   "/run --quiet --no-dense");
+  ASSERT_EQ(run.status, 0) << run.output;
+  const EvalResult run_ev = evaluate(readTumTrajectory(folder + "/groundtruth.txt"),
+                                     readTumTrajectory(scratch + "/run/trajectory.txt"));
+  std::vector<double> latency;
+  for (const auto& [t, ms] : player.latency_ms) latency.push_back(ms);
+  const std::string stats = test::readFile(out + "/stats.json");
+  const size_t counts = stats.find("\"ros_received\"");
+  EXPECT_NE(counts, std::string::npos) << stats;
+  std::printf("[figures] node: %zu poses of %d frames published; latency image stamp -> pose received: median %.1f ms, "
+              "p95 %.1f ms; ATE node %.4f m (%d poses), plslam run threaded %.4f m (%d poses)\n[figures] node stats: %s\n",
+              latency.size(), kFrames, percentile(latency, 0.5), percentile(latency, 0.95), node_ev.ate.stats.rmse,
+              node_ev.ate.stats.count, run_ev.ate.stats.rmse, run_ev.ate.stats.count,
+              counts == std::string::npos ? "" : stats.substr(counts).c_str());
+  EXPECT_LT(node_ev.ate.stats.rmse, std::max(0.02, 2 * run_ev.ate.stats.rmse));
+}
+
+TEST(RosNode, WithAnOdometryFramePublishesMapToOdom) {
+  test::RosMaster master;
+  ASSERT_TRUE(master.ok()) << master.why();
+  const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, 60);
+  const std::string scratch = test::scratchDir("rosnode_odom");
+  const pid_t node = startNode(scratch + "/node", {"_odom_frame:=odom", "_no_dense:=true"});
+  ASSERT_GT(node, 0);
+  CameraPlayer player;
+  // The wheel odometry, here a fixed odom -> base_footprint.
+  tf2_ros::StaticTransformBroadcaster odometry;
+  geometry_msgs::TransformStamped odom_base;
+  odom_base.header.frame_id = "odom";
+  odom_base.child_frame_id = "base_footprint";
+  odom_base.transform.translation.x = 0.5;
+  odom_base.transform.rotation.w = 1;
+  odometry.sendTransform(odom_base);
+  player.play(folder, 60);
+
+  ASSERT_TRUE(player.tf_buffer.canTransform("map", "odom", ros::Time(0), ros::Duration(1.0)));
+  const auto map_base = player.tf_buffer.lookupTransform("map", "base_footprint", ros::Time(0));
+  geometry_msgs::PoseStamped base;
+  {
+    std::lock_guard<std::mutex> lock(player.mutex);
+    base = player.last_base;
+  }
+  // map -> odom -> base_footprint is the node's base pose.
+  EXPECT_NEAR(map_base.transform.translation.x, base.pose.position.x, 1e-6);
+  EXPECT_NEAR(map_base.transform.translation.y, base.pose.position.y, 1e-6);
+  EXPECT_NEAR(map_base.transform.translation.z, base.pose.position.z, 1e-6);
+  EXPECT_EQ(stopNode(node), 0);
+}
+
+TEST(RosNode, RealSequenceAteNextToPlslamRun) {
+  PLSLAM_REQUIRE_SHARED("data/tum/fr1_xyz_0-199");
+  const std::string folder = test::sharedDir() + "/data/tum/fr1_xyz_0-199";
+  const std::string calib = test::sourceDir() + "/calib/tum_freiburg1.xml";
+  test::RosMaster master;
+  ASSERT_TRUE(master.ok()) << master.why();
+  const std::string scratch = test::scratchDir("rosnode_fr1");
+  const pid_t node = startNode(scratch + "/node", {"_no_dense:=true"});
+  ASSERT_GT(node, 0);
+  CameraPlayer player;
+  Play how;
+  how.camera_file = calib;  // sent as camera_info, distortion included
+  how.restamp = false;      // the recorded stamps, to compare with the ground truth
+  how.millimetres = false;  // 32FC1 metres, as TUM's own bags
+  player.play(folder, 200, how);
+  EXPECT_EQ(stopNode(node), 0);
+  const Trajectory gt = readTumTrajectory(folder + "/groundtruth.txt");
+  const EvalResult node_ev = evaluate(gt, readTumTrajectory(scratch + "/node/trajectory.txt"));
+  const auto run = test::runPlslam("run --dataset " + folder + " --calib " + calib + " --out " + scratch +
+                                   "/run --quiet --no-dense");
+  ASSERT_EQ(run.status, 0) << run.output;
+  const EvalResult run_ev = evaluate(gt, readTumTrajectory(scratch + "/run/trajectory.txt"));
+  const std::string stats = test::readFile(scratch + "/node/stats.json");
+  const size_t counts = stats.find("\"ros_received\"");
+  std::printf("[figures] fr1_xyz_0-199 at 30 Hz: ATE node %.4f m (%d poses), plslam run threaded %.4f m (%d poses)\n"
+              "[figures] node stats: %s\n",
+              node_ev.ate.stats.rmse, node_ev.ate.stats.count, run_ev.ate.stats.rmse, run_ev.ate.stats.count,
+              counts == std::string::npos ? "" : stats.substr(counts).c_str());
+  EXPECT_LT(node_ev.ate.stats.rmse, std::max(0.03, 2 * run_ev.ate.stats.rmse));
+}

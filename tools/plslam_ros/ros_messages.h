@@ -1,0 +1,32 @@
+// plslam's products as ROS 1 messages: pure functions, no node state, so the adapter
+// only decides what to publish and when.
+#pragma once
+
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <geometry_msgs/PoseStamped.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <visualization_msgs/Marker.h>
+
+#include <string>
+
+#include "core/se3.h"
+#include "session/live_session.h"
+#include "session/robot_frames.h"
+
+namespace plslam::ros1 {
+
+geometry_msgs::Pose toPose(const SE3& T);
+geometry_msgs::Transform toTransform(const SE3& T);
+SE3 fromTransform(const geometry_msgs::Transform& t);
+
+/// The map points, moved into the map frame: x, y, z float32 fields.
+sensor_msgs::PointCloud2 pointsMessage(const SparseMapSnapshot& map, const RobotFrames& frames, const std_msgs::Header& header);
+/// The 3D lines as one LINE_LIST marker (two points per line) in the map frame.
+visualization_msgs::Marker linesMessage(const SparseMapSnapshot& map, const RobotFrames& frames, const std_msgs::Header& header);
+/// The frame's tracking status and the session's counters, as one DiagnosticStatus named
+/// "plslam: tracking" (OK when tracked, WARN otherwise).
+diagnostic_msgs::DiagnosticArray statusMessage(const FrameOutcome& frame, const SessionCounts& counts,
+                                               double latency_ms, const std_msgs::Header& header);
+
+}  // namespace plslam::ros1

@@ -1,0 +1,221 @@
+#include "ros_node.h"
+
+#include <geometry_msgs/PoseStamped.h>
+
+#include <filesystem>
+
+#include "calibration/base_transform.h"
+#include "camera/camera_file.h"
+#include "core/error.h"
+#include "core/log.h"
+#include "ros1/msg_convert.h"
+#include "ros_messages.h"
+
+namespace plslam::ros1 {
+
+namespace {
+
+template <typename T>
+T param(const ros::NodeHandle& pnh, const std::string& name, const T& fallback) {
+  T value;
+  return pnh.getParam(name, value) ? value : fallback;
+}
+
+}  // namespace
+
+NodeSettings NodeSettings::fromParameters(const ros::NodeHandle& pnh) {
+  NodeSettings s;
+  RunSwitches& w = s.switches;
+  w.config = param<std::string>(pnh, "config", "");
+  w.map = param<std::string>(pnh, "map", "");
+  w.localize = param(pnh, "localize", false);
+  w.sequential = param(pnh, "sequential", false);
+  w.no_lines = param(pnh, "no_lines", false);
+  w.no_dynamic = param(pnh, "no_dynamic", false);
+  w.no_loop = param(pnh, "no_loop", false);
+  w.segmenter = param<std::string>(pnh, "segmenter", "none");
+  w.classes = param<std::string>(pnh, "classes", "");
+  w.dynamic_classes = param<std::string>(pnh, "dynamic_classes", "");
+  w.allow_missing_model = param(pnh, "allow_missing_model", false);
+  s.calib = param<std::string>(pnh, "calib", "");
+  s.camera_to_base = param<std::string>(pnh, "camera_to_base", "");
+  s.out = param<std::string>(pnh, "out", s.out);
+  s.map_frame = param<std::string>(pnh, "map_frame", s.map_frame);
+  s.odom_frame = param<std::string>(pnh, "odom_frame", "");
+  s.base_frame = param<std::string>(pnh, "base_frame", s.base_frame);
+  s.session.queue = param(pnh, "queue", s.session.queue);
+  s.session.drop_frames = !param(pnh, "no_drop", false);
+  s.exact_sync = param<std::string>(pnh, "sync", "approximate") == "exact";
+  s.sync_queue = param(pnh, "sync_queue", s.sync_queue);
+  s.sparse_period_s = param(pnh, "sparse_period", s.sparse_period_s);
+  s.publish_tf = param(pnh, "publish_tf", true);
+  s.dense = !param(pnh, "no_dense", false);
+  if (s.session.queue < 1 || s.sync_queue < 1 || s.sparse_period_s <= 0)
+    throw ConfigError("plslam_ros: queue and sync_queue must be >= 1, sparse_period > 0");
+  return s;
+}
+
+RosNode::RosNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeSettings settings)
+    : nh_(nh), pnh_(pnh), settings_(std::move(settings)), tf_listener_(tf_buffer_) {
+  if (!settings_.camera_to_base.empty()) frames_ = RobotFrames(calib::loadCameraToBase(settings_.camera_to_base));
+  camera_pose_pub_ = pnh_.advertise<geometry_msgs::PoseStamped>("camera_pose", 10);
+  base_pose_pub_ = pnh_.advertise<geometry_msgs::PoseStamped>("base_pose", 10);
+  path_pub_ = pnh_.advertise<nav_msgs::Path>("path", 1, true);
+  points_pub_ = pnh_.advertise<sensor_msgs::PointCloud2>("sparse_points", 1, true);
+  lines_pub_ = pnh_.advertise<visualization_msgs::Marker>("sparse_lines", 1, true);
+  status_pub_ = pnh_.advertise<diagnostic_msgs::DiagnosticArray>("status", 10);
+  save_srv_ = pnh_.advertiseService("save_map", &RosNode::onSave, this);
+  sparse_timer_ = nh_.createWallTimer(ros::WallDuration(settings_.sparse_period_s), &RosNode::onSparseTimer, this);
+  path_.header.frame_id = settings_.map_frame;
+
+  colour_sub_.subscribe(nh_, "camera/color/image_raw", 5);
+  depth_sub_.subscribe(nh_, "camera/aligned_depth_to_color/image_raw", 5);
+  if (settings_.exact_sync) {
+    exact_sync_ = std::make_unique<ExactSync>(ExactPolicy(settings_.sync_queue), colour_sub_, depth_sub_);
+    exact_sync_->registerCallback(&RosNode::onImages, this);
+  } else {
+    approx_sync_ = std::make_unique<ApproxSync>(ApproxPolicy(settings_.sync_queue), colour_sub_, depth_sub_);
+    approx_sync_->registerCallback(&RosNode::onImages, this);
+  }
+  if (settings_.calib.empty()) info_sub_ = nh_.subscribe("camera/color/camera_info", 1, &RosNode::onCameraInfo, this);
+  else startSession(loadCameraFile(settings_.calib));
+  ROS_INFO_STREAM("plslam_ros: colour " << colour_sub_.getTopic() << ", depth " << depth_sub_.getTopic()
+                                        << ", camera " << (settings_.calib.empty() ? info_sub_.getTopic() : settings_.calib)
+                                        << "; outputs in " << settings_.out);
+}
+
+RosNode::~RosNode() = default;
+
+void RosNode::startSession(const PinholeCamera& camera) {
+  auto session = std::make_unique<LiveSession>(camera, makeRunConfig(settings_.switches, "plslam_ros: effective configuration"),
+                                               settings_.session);
+  session->setFrameListener([this](const FrameOutcome& f) { onFrame(f); });
+  session->start();
+  std::lock_guard<std::mutex> lock(session_mutex_);
+  session_ = std::move(session);
+  ROS_INFO("plslam_ros: camera %dx%d fx %.1f fy %.1f: tracking", camera.width, camera.height, camera.fx, camera.fy);
+}
+
+LiveSession* RosNode::session() const {
+  std::lock_guard<std::mutex> lock(session_mutex_);
+  return session_.get();
+}
+
+void RosNode::onCameraInfo(const sensor_msgs::CameraInfoConstPtr& info) {
+  if (session()) return;
+  startSession(cameraFromInfo(*info));
+  info_sub_.shutdown();  // the intrinsics of a running System do not change
+}
+
+void RosNode::onImages(const sensor_msgs::ImageConstPtr& colour, const sensor_msgs::ImageConstPtr& depth) {
+  LiveSession* s = session();
+  if (!s || finishing_) {
+    ++before_camera_;
+    return;
+  }
+  RgbdFrame frame;
+  try {
+    frame.bgr = colourToBgr(*colour);
+    frame.depth_m = depthToMetres(*depth);
+  } catch (const Error& e) {
+    ++unconvertible_;
+    ROS_WARN_THROTTLE(5, "plslam_ros: image pair skipped: %s", e.what());
+    return;
+  }
+  frame.t_ns = toNs(colour->header.stamp);
+  frame.index = static_cast<int>(colour->header.seq);
+  frame.name = colour_sub_.getTopic();
+  s->push(std::move(frame));
+}
+
+void RosNode::onFrame(const FrameOutcome& frame) {
+  std_msgs::Header header;
+  header.stamp = toRosTime(frame.t_ns);
+  header.frame_id = settings_.map_frame;
+  const double latency_ms = (ros::Time::now() - header.stamp).toSec() * 1000.0;
+  status_pub_.publish(statusMessage(frame, session()->counts(), latency_ms, header));
+  if (!frame.tracked) return;
+  const SE3 T_map_base = frames_.T_map_base(frame.T_w_c);
+  if (settings_.publish_tf) publishTransform(T_map_base, header);
+  geometry_msgs::PoseStamped pose;
+  pose.header = header;
+  pose.pose = toPose(frames_.T_map_cam(frame.T_w_c));
+  camera_pose_pub_.publish(pose);
+  pose.pose = toPose(T_map_base);
+  base_pose_pub_.publish(pose);
+  path_.header.stamp = header.stamp;
+  path_.poses.push_back(pose);
+  path_pub_.publish(path_);
+}
+
+void RosNode::publishTransform(const SE3& T_map_base, const std_msgs::Header& header) {
+  geometry_msgs::TransformStamped t;
+  t.header = header;
+  if (settings_.odom_frame.empty()) {
+    t.child_frame_id = settings_.base_frame;
+    t.transform = toTransform(T_map_base);
+  } else {
+    // The wheel odometry owns odom -> base: publish the map -> odom that makes them agree.
+    geometry_msgs::TransformStamped odom_base;
+    try {
+      odom_base = tf_buffer_.lookupTransform(settings_.odom_frame, settings_.base_frame, header.stamp, ros::Duration(0.1));
+    } catch (const tf2::TransformException& e) {
+      ROS_WARN_THROTTLE(5, "plslam_ros: no %s -> %s at the image stamp, map -> odom not published: %s",
+                        settings_.odom_frame.c_str(), settings_.base_frame.c_str(), e.what());
+      return;
+    }
+    t.child_frame_id = settings_.odom_frame;
+    t.transform = toTransform(T_map_base * fromTransform(odom_base.transform).inverse());
+  }
+  tf_broadcaster_.sendTransform(t);
+}
+
+void RosNode::onSparseTimer(const ros::WallTimerEvent&) {
+  LiveSession* s = session();
+  if (!s) return;
+  const SparseMapSnapshot map = s->sparseMap();
+  std_msgs::Header header;
+  header.stamp = ros::Time::now();
+  header.frame_id = settings_.map_frame;
+  points_pub_.publish(pointsMessage(map, frames_, header));
+  lines_pub_.publish(linesMessage(map, frames_, header));
+}
+
+std::string RosNode::statsExtra() const {
+  const SessionCounts c = session()->counts();
+  return str("\"ros_received\": ", c.received, ", \"ros_processed\": ", c.processed, ", \"ros_dropped\": ", c.dropped,
+             ", \"ros_before_camera\": ", before_camera_.load(), ", \"ros_unconvertible\": ", unconvertible_.load());
+}
+
+bool RosNode::onSave(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response) {
+  LiveSession* s = session();
+  if (!s || finishing_) {
+    response.success = false;
+    response.message = s ? "finishing" : "no camera yet: nothing to save";
+    return true;
+  }
+  try {
+    s->save(settings_.out, statsExtra());
+    response.success = true;
+    response.message = settings_.out;
+  } catch (const std::exception& e) {
+    response.success = false;
+    response.message = e.what();
+  }
+  return true;
+}
+
+bool RosNode::finish() {
+  finishing_ = true;
+  colour_sub_.unsubscribe();
+  depth_sub_.unsubscribe();
+  sparse_timer_.stop();
+  LiveSession* s = session();
+  if (!s) return false;
+  s->stop();
+  if (s->counts().tracked == 0) return false;
+  s->writeOutputs(settings_.out, statsExtra(), settings_.dense);
+  return true;
+}
+
+}  // namespace plslam::ros1

@@ -1,0 +1,99 @@
+// plslam_ros: the ROS 1 adapter over the transport-neutral LiveSession
+// (session/live_session.h). It subscribes, converts, pushes frames, and publishes what
+// the session reports; the SLAM, the configuration (session/run_config.h), the frame
+// conventions (session/robot_frames.h) and the outputs are the session's. A ROS 2 node
+// would be a sibling of this file with the same shape.
+//
+// Thread safety: the subscriber, timer and service callbacks run on the spinner's threads;
+// publishing from the SLAM thread goes through roscpp publishers, which are thread-safe.
+// The session pointer is set once (first camera_info) under session_mutex_.
+#pragma once
+
+#include <message_filters/subscriber.h>
+#include <message_filters/sync_policies/approximate_time.h>
+#include <message_filters/sync_policies/exact_time.h>
+#include <message_filters/synchronizer.h>
+#include <nav_msgs/Path.h>
+#include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <std_srvs/Trigger.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "session/live_session.h"
+#include "session/robot_frames.h"
+
+namespace plslam::ros1 {
+
+/// The node's parameters (private namespace, ~name); see README "Under ROS".
+struct NodeSettings {
+  RunSwitches switches;            ///< config, map, localize, sequential, no_lines, no_dynamic, no_loop, segmenter...
+  std::string calib;               ///< camera file; empty: the camera_info
+  std::string camera_to_base;      ///< `plslam calib base` file; empty: opticalToBase() (camera at the base origin, level)
+  std::string out = "plslam_ros_out";  ///< where the save service and the shutdown write the outputs
+  std::string map_frame = "map", odom_frame, base_frame = "base_footprint";
+  SessionOptions session;          ///< queue, drop_frames
+  bool exact_sync = false;         ///< pair colour and depth by equal stamps instead of ApproximateTime
+  int sync_queue = 10;             ///< message_filters queue size
+  double sparse_period_s = 1.0;    ///< period of the sparse map topics
+  bool publish_tf = true;
+  bool dense = true;               ///< dense products written at shutdown
+
+  static NodeSettings fromParameters(const ros::NodeHandle& pnh);
+};
+
+class RosNode {
+ public:
+  RosNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeSettings settings);
+  ~RosNode();
+  /// Stops taking frames, ends the session and writes the outputs, as `plslam run` does at
+  /// its end. Returns false when no frame was ever tracked (nothing written).
+  bool finish();
+
+ private:
+  using Image = sensor_msgs::Image;
+  using ApproxPolicy = message_filters::sync_policies::ApproximateTime<Image, Image>;
+  using ExactPolicy = message_filters::sync_policies::ExactTime<Image, Image>;
+  using ApproxSync = message_filters::Synchronizer<ApproxPolicy>;
+  using ExactSync = message_filters::Synchronizer<ExactPolicy>;
+
+  void startSession(const PinholeCamera& camera);
+  void onCameraInfo(const sensor_msgs::CameraInfoConstPtr& info);
+  void onImages(const sensor_msgs::ImageConstPtr& colour, const sensor_msgs::ImageConstPtr& depth);
+  void onFrame(const FrameOutcome& frame);
+  void publishTransform(const SE3& T_map_base, const std_msgs::Header& header);
+  void onSparseTimer(const ros::WallTimerEvent&);
+  bool onSave(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
+  std::string statsExtra() const;
+  LiveSession* session() const;
+
+  ros::NodeHandle nh_, pnh_;
+  NodeSettings settings_;
+  RobotFrames frames_;
+  message_filters::Subscriber<Image> colour_sub_, depth_sub_;
+  std::unique_ptr<ApproxSync> approx_sync_;
+  std::unique_ptr<ExactSync> exact_sync_;
+  ros::Subscriber info_sub_;
+  ros::Publisher camera_pose_pub_, base_pose_pub_, path_pub_, points_pub_, lines_pub_, status_pub_;
+  ros::ServiceServer save_srv_;
+  ros::WallTimer sparse_timer_;
+  tf2_ros::Buffer tf_buffer_;
+  tf2_ros::TransformListener tf_listener_;
+  tf2_ros::TransformBroadcaster tf_broadcaster_;
+
+  mutable std::mutex session_mutex_;
+  std::unique_ptr<LiveSession> session_;
+  nav_msgs::Path path_;                 // SLAM thread only
+  std::atomic<int> before_camera_{0};   // image pairs received before the camera was known
+  std::atomic<int> unconvertible_{0};   // image pairs that could not be converted
+  std::atomic<bool> finishing_{false};
+};
+
+}  // namespace plslam::ros1
