@@ -36,9 +36,10 @@ Rgb semanticColour(int class_id, uint8_t r, uint8_t g, uint8_t b) {
 
 Rgb semanticColour(const FusedPoint& p) { return semanticColour(p.class_id, p.r, p.g, p.b); }
 
-std::vector<Eigen::Vector3f> worldPoints(const KeyFrame& kf) {
-  const Eigen::Matrix3f R = kf.T_w_c.rotation().cast<float>();
-  const Eigen::Vector3f t = kf.T_w_c.translation().cast<float>();
+std::vector<Eigen::Vector3f> worldPoints(const KeyFrame& kf, const SE3& T_out_w) {
+  const SE3 T_out_c = T_out_w * kf.T_w_c;
+  const Eigen::Matrix3f R = T_out_c.rotation().cast<float>();
+  const Eigen::Vector3f t = T_out_c.translation().cast<float>();
   std::vector<Eigen::Vector3f> out;
   out.reserve(kf.dense.size());
   for (const DensePoint& p : kf.dense) out.push_back(R * p.p_c + t);
@@ -46,14 +47,14 @@ std::vector<Eigen::Vector3f> worldPoints(const KeyFrame& kf) {
 }
 
 std::vector<FusedPoint> fuseCloud(const Map& map, const DenseOptions& o, const DenseProgress& progress,
-                                  bool* cancelled) {
+                                  bool* cancelled, const SE3& T_out_w) {
   if (cancelled) *cancelled = false;
   const size_t total = map.keyframes().size();
   size_t done = 0;
   std::vector<FusedPoint> out;
   if (o.fused_voxel_m <= 0) {
     for (const auto& [id, kf] : map.keyframes()) {
-      const std::vector<Eigen::Vector3f> pw = worldPoints(kf);
+      const std::vector<Eigen::Vector3f> pw = worldPoints(kf, T_out_w);
       for (size_t i = 0; i < pw.size(); ++i) {
         const DensePoint& d = kf.dense[i];
         out.push_back({pw[i], d.r, d.g, d.b, d.class_id, 1});
@@ -67,7 +68,7 @@ std::vector<FusedPoint> fuseCloud(const Map& map, const DenseOptions& o, const D
   }
   dense_detail::VoxelAccumulator grid(o.fused_voxel_m);
   for (const auto& [id, kf] : map.keyframes()) {
-    const std::vector<Eigen::Vector3f> pw = worldPoints(kf);
+    const std::vector<Eigen::Vector3f> pw = worldPoints(kf, T_out_w);
     for (size_t i = 0; i < pw.size(); ++i) {
       const DensePoint& d = kf.dense[i];
       grid.add(pw[i], d.r, d.g, d.b, d.class_id);

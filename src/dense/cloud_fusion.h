@@ -46,15 +46,18 @@ Rgb semanticColour(int class_id, uint8_t r, uint8_t g, uint8_t b);
 /// stops the work (the result is then incomplete and flagged by the caller).
 using DenseProgress = std::function<bool(const std::string& stage, size_t done, size_t total)>;
 
-/// Keyframe `kf`'s dense cloud in the world frame (its T_w_c applied).
-std::vector<Eigen::Vector3f> worldPoints(const KeyFrame& kf);
+/// Keyframe `kf`'s dense cloud in the world frame (its T_w_c applied), or in the frame
+/// `out` when T_out_w is given (the map frame: T_map_world).
+std::vector<Eigen::Vector3f> worldPoints(const KeyFrame& kf, const SE3& T_out_w = SE3());
 
 /// Every keyframe's cloud in the world (final T_w_c), merged with voxels of fused_voxel_m
 /// (centroid, mean colour, most frequent class; voxels with fewer than min_voxel_points
 /// dropped). The caller keeps others from changing `map` meanwhile (after System::finish,
 /// or holding map.mutex()). `cancelled` (may be null) is set when progress stopped it.
+/// With T_out_w the points are moved into that frame before the voxels (p_w then holds
+/// points of that frame: the map frame, T_map_world).
 std::vector<FusedPoint> fuseCloud(const Map& map, const DenseOptions& options, const DenseProgress& progress = {},
-                                  bool* cancelled = nullptr);
+                                  bool* cancelled = nullptr, const SE3& T_out_w = SE3());
 
 /// The cloud as binary PCD (pcl::PointXYZRGBL, see above). PCL is needed only here.
 std::string cloudToPcd(const std::vector<FusedPoint>& cloud);

@@ -87,7 +87,7 @@ void validateDenseOptions(const DenseOptions& o) {
 }
 
 DenseProducts buildDenseProducts(const Map& map, const PinholeCamera& camera, const DenseOptions& o,
-                                 const DenseSelection& what, const DenseProgress& progress) {
+                                 const DenseSelection& what, const DenseProgress& progress, const MapFrame* given) {
   validateDenseOptions(o);
   DenseProducts p;
   p.keyframes = static_cast<int>(map.keyframes().size());
@@ -95,19 +95,25 @@ DenseProducts buildDenseProducts(const Map& map, const PinholeCamera& camera, co
     p.keyframes_with_cloud += !kf.dense.empty();
     p.keyframe_points += kf.dense.size();
   }
-  const SE3 T_w_c0 = map.keyframes().empty() ? SE3() : map.keyframes().begin()->second.T_w_c;
-  const bool need_cloud = what.pcd || what.ply || what.semantic_octomap || what.grid;
+  if (!what.any()) return p;
+  // The floor is found in the fused world cloud, so the cloud is needed unless the frame is given.
+  const bool need_cloud = what.pcd || what.ply || what.semantic_octomap || what.grid || !given;
   const bool need_octree = what.octomap || what.semantic_octomap || what.grid;
 
   bool stop = false;
   if (need_cloud) timed(&p, "cloud", [&] { p.cloud = fuseCloud(map, o, progress, &stop); });
-  if (!stop && need_octree) timed(&p, "octomap", [&] { p.octree = buildOctree(map, o, progress, &stop); });
+  if (!stop) timed(&p, "map frame", [&] {
+    p.frame = given ? *given : estimateMapFrame(map, camera, p.cloud, o, &p.floor);
+    for (FusedPoint& q : p.cloud) q.p_w = (p.frame.T_map_world * q.p_w.cast<double>()).cast<float>();
+  });
+  if (!stop && need_octree)
+    timed(&p, "octomap", [&] { p.octree = buildOctree(map, o, progress, &stop, p.frame.T_map_world); });
   if (!stop && what.semantic_octomap)
     timed(&p, "semantic octomap", [&] { p.semantic_octree = buildSemanticOctree(*p.octree, p.cloud, o); });
   if (!stop && what.semantic_octomap && progress && !progress("semantic octomap", 1, 1)) stop = true;
   if (!stop && what.grid) {
-    timed(&p, "floor", [&] { p.floor = estimateFloor(p.cloud, T_w_c0, camera.imageUp(), o); });
-    timed(&p, "grid", [&] { p.grid = projectToGrid(*p.octree, p.floor, o); });
+    // The tree is in the map frame, which is the grid's floor frame.
+    timed(&p, "grid", [&] { p.grid = projectToGrid(*p.octree, SE3(), p.frame.T_map_world.inverse(), o); });
     if (progress && !progress("grid", 1, 1)) stop = true;
   }
   p.cancelled = stop;
@@ -125,11 +131,21 @@ std::string denseSummaryJson(const DenseProducts& p, const DenseOptions& o, cons
       << ", \"occupied_leaves\": " << t.occupied_leaves << ", \"free_leaves\": " << t.free_leaves
       << ", \"memory_bytes\": " << t.memory_bytes << "}";
   }
+  if (!p.frame.floor_method.empty()) {
+    const Eigen::Quaterniond& q = p.frame.T_map_world.quaternion();
+    s << ",\n  \"map_frame\": {\"T_map_world\": {\"t\": " << vec3(p.frame.T_map_world.translation())
+      << ", \"q_xyzw\": [" << fmt(q.x()) << ", " << fmt(q.y()) << ", " << fmt(q.z()) << ", " << fmt(q.w())
+      << "]}, \"camera_height_m\": " << fmt(p.frame.cameraHeight())
+      << ", \"floor_method\": " << jsonQuote(p.frame.floor_method)
+      << ", \"floor_source\": " << jsonQuote(p.frame.floor_source) << ", \"given\": "
+      << (p.floor.method.empty() ? "true" : "false") << "}";
+  }
+  if (!p.floor.method.empty())
+    s << ",\n  \"floor\": {\"method\": " << jsonQuote(p.floor.method) << ", \"up_w\": " << vec3(p.floor.up_w)
+      << ", \"height0_m\": " << fmt(p.floor.height0) << ", \"inliers\": " << p.floor.inliers << "}";
   if (p.grid.width > 0) {
     const Eigen::Quaterniond& q = p.grid.T_w_grid.quaternion();
-    s << ",\n  \"floor\": {\"method\": " << jsonQuote(p.floor.method) << ", \"up_w\": " << vec3(p.floor.up_w)
-      << ", \"height0_m\": " << fmt(p.floor.height0) << ", \"inliers\": " << p.floor.inliers << "}"
-      << ",\n  \"grid\": {\"width\": " << p.grid.width << ", \"height\": " << p.grid.height
+    s << ",\n  \"grid\": {\"width\": " << p.grid.width << ", \"height\": " << p.grid.height
       << ", \"resolution_m\": " << fmt(p.grid.resolution) << ", \"origin\": [" << fmt(p.grid.origin.x()) << ", "
       << fmt(p.grid.origin.y()) << ", 0], \"min_height_m\": " << fmt(o.grid_min_height_m)
       << ", \"max_height_m\": " << fmt(o.grid_max_height_m) << ", \"occupied\": " << p.grid.count(OccupancyGrid::kOccupied)
@@ -163,15 +179,16 @@ std::vector<WrittenFile> writeDenseProducts(const std::string& dir, const DenseP
     files.push_back({path, bytes.size()});
   };
   if (!p.cancelled) {
+    if (what.any()) put(kMapFrameYaml, mapFrameToYaml(p.frame));
     if (what.pcd) put(kDenseCloudPcd, cloudToPcd(p.cloud));
     if (what.ply) put(kDenseCloudPly, cloudToSemanticPly(p.cloud));
     if (what.octomap && p.octree) put(kOctomapBt, octreeToBt(*p.octree));
     if (what.semantic_octomap && p.semantic_octree) put(kOctomapSemanticOt, octreeToOt(*p.semantic_octree));
     if (what.grid && p.grid.width > 0) {
       put(kGridPgm, gridToPgm(p.grid));
-      const std::string floor = "floor: " + p.floor.method + ", up_w " + vec3(p.floor.up_w) + ", height0 " +
-                                fmt(p.floor.height0) + " m; band " + fmt(o.grid_min_height_m) + " to " +
-                                fmt(o.grid_max_height_m) + " m above it";
+      const std::string floor = "grid frame = map frame (map_frame.yaml), floor: " + p.frame.floor_method +
+                                " on the " + p.frame.floor_source + " points; band " + fmt(o.grid_min_height_m) +
+                                " to " + fmt(o.grid_max_height_m) + " m above it";
       put(kGridYaml, gridToYaml(p.grid, kGridPgm, o.grid_occupied_thresh, o.grid_free_thresh, floor));
     } else if (what.grid) {
       kLog.warn("no grid written: no voxel of the map lies in the height band above the floor");

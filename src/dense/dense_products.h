@@ -1,7 +1,10 @@
 // The dense products of a map, built in one call and written in one call: what `plslam
 // run` leaves at the end of a run and `plslam export` makes from a saved map.
 //
+// Every product is in the map frame (core/map_frame.h: z up, x forward, origin on the floor
+// below the first camera), found from the floor of the fused cloud unless given.
 // Files written by writeDenseProducts(dir, ...), each atomically (core/atomic_file.h):
+//   map_frame.yaml             T_map_world and how it was found (core/map_frame.h)
 //   dense_cloud.pcd            fused cloud, binary PCD PointXYZRGBL (dense/cloud_fusion.h)
 //   dense_cloud_semantic.ply   fused cloud, semantic colours and classes (ditto)
 //   octomap.bt                 occupancy octree (dense/octree_maps.h)
@@ -21,6 +24,7 @@
 
 #include "camera/pinhole_camera.h"
 #include "core/map.h"
+#include "core/map_frame.h"
 #include "dense/cloud_fusion.h"
 #include "dense/dense_options.h"
 #include "dense/floor_plane.h"
@@ -62,21 +66,25 @@ struct DenseProducts {
   int keyframes = 0;                   ///< keyframes in the map
   int keyframes_with_cloud = 0;        ///< of them, with a dense cloud
   size_t keyframe_points = 0;          ///< points of all keyframe clouds
-  std::vector<FusedPoint> cloud;       ///< fused cloud (built for pcd, ply, semantic octomap, grid)
-  std::shared_ptr<octomap::OcTree> octree;                 ///< built for octomap and grid
-  std::shared_ptr<octomap::ColorOcTree> semantic_octree;   ///< built for semantic_octomap
-  FloorPlane floor;                    ///< built for grid
-  OccupancyGrid grid;                  ///< built for grid
+  MapFrame frame;                      ///< the frame of every product (given, or found from the floor)
+  FloorPlane floor;                    ///< the floor found, SLAM world frame (method empty when the frame was given)
+  std::vector<FusedPoint> cloud;       ///< fused cloud, map frame (built for pcd, ply, semantic octomap, grid)
+  std::shared_ptr<octomap::OcTree> octree;                 ///< map frame; built for octomap and grid
+  std::shared_ptr<octomap::ColorOcTree> semantic_octree;   ///< map frame; built for semantic_octomap
+  OccupancyGrid grid;                  ///< map frame (T_w_grid = T_map_world^-1); built for grid
   std::vector<DenseCost> costs;
   bool cancelled = false;              ///< progress stopped the build: products are incomplete
 };
 
 /// Builds the selected products (and what they need) from the keyframes' dense clouds and
-/// final poses. `camera` is the map's camera (the floor starts from the top of its image,
-/// PinholeCamera::imageUp()). `progress` (may be empty) is called after each keyframe of
-/// each step; returning false stops the build (cancelled). Throws ConfigError for bad options.
+/// final poses, in the map frame `given` (a saved map's), or, when null, in the one found
+/// from the floor of the fused cloud (estimateMapFrame). `camera` is the map's camera (the
+/// floor starts from the top of its image, PinholeCamera::imageUp()). `progress` (may be
+/// empty) is called after each keyframe of each step; returning false stops the build
+/// (cancelled). Throws ConfigError for bad options.
 DenseProducts buildDenseProducts(const Map& map, const PinholeCamera& camera, const DenseOptions& options,
-                                 const DenseSelection& what = {}, const DenseProgress& progress = {});
+                                 const DenseSelection& what = {}, const DenseProgress& progress = {},
+                                 const MapFrame* given = nullptr);
 
 struct WrittenFile {
   std::string path;

@@ -40,15 +40,13 @@ Plane fitPlane(const std::vector<Eigen::Vector3d>& pts, const Eigen::Vector3d& u
 
 SE3 gridFrame(const Eigen::Vector3d& up, double height0, const SE3& T_w_c0, const Eigen::Vector3d& up_c) {
   const Eigen::Matrix3d R = T_w_c0.rotation();
-  // The camera's x axis when up_c = -y; -x when up_c = +y (fy < 0), so that y is forward.
-  const Eigen::Vector3d side = R * Eigen::Vector3d::UnitZ().cross(up_c);
-  Eigen::Vector3d x = side - side.dot(up) * up;
-  if (x.norm() < 1e-6) x = R.col(2) - R.col(2).dot(up) * up;  // camera looking straight down
+  Eigen::Vector3d x = R.col(2) - R.col(2).dot(up) * up;
+  // A camera looking straight down: forward is the top of its image.
+  if (x.norm() < 1e-6) x = R * up_c - (R * up_c).dot(up) * up;
   x.normalize();
-  const Eigen::Vector3d y = up.cross(x);
   Eigen::Matrix3d Rg;
   Rg.col(0) = x;
-  Rg.col(1) = y;
+  Rg.col(1) = up.cross(x);
   Rg.col(2) = up;
   const Eigen::Vector3d c0 = T_w_c0.translation();
   const Eigen::Vector3d origin = c0 - (up.dot(c0) - height0) * up;
@@ -136,6 +134,22 @@ FloorPlane estimateFloor(const std::vector<FusedPoint>& cloud, const SE3& T_w_c0
   f.inliers = floor->inliers;
   f.candidates = static_cast<int>(level.size());
   f.T_w_grid = gridFrame(f.up_w, f.height0, T_w_c0, up_c);
+  return f;
+}
+
+MapFrame estimateMapFrame(const Map& map, const PinholeCamera& camera, const std::vector<FusedPoint>& cloud_w,
+                          const DenseOptions& o, FloorPlane* floor_out) {
+  std::vector<FusedPoint> sparse;
+  if (cloud_w.empty())
+    for (const auto& [id, p] : map.points()) sparse.push_back({p.p_w.cast<float>()});
+  const SE3 T_w_c0 = map.keyframes().empty() ? SE3() : map.keyframes().begin()->second.T_w_c;
+  const FloorPlane floor = estimateFloor(cloud_w.empty() ? sparse : cloud_w, T_w_c0, camera.imageUp(), o);
+  if (floor_out) *floor_out = floor;
+  MapFrame f;
+  f.T_map_world = floor.T_w_grid.inverse();
+  f.floor_method = floor.method;
+  f.floor_source = cloud_w.empty() ? "sparse" : "dense";
+  f.floor_points = floor.inliers;
   return f;
 }
 

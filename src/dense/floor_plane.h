@@ -9,10 +9,10 @@
 //            squares on its inliers. Without such a plane it falls back to gravity.
 //   gravity  up is the first camera's up (the camera was held level at the start), the
 //            floor height the 2nd percentile of the points' heights along it.
-// The grid frame (T_w_grid) has z up along the floor normal, its origin on the floor below
-// the first camera's centre and x along the first camera's z x up_c laid onto the floor (its
-// x axis, or -x when fy < 0): in the grid, the robot starts at (0, 0) looking along +y
-// (y = up x x = the camera's forward direction projected on the floor).
+// The floor frame (T_w_grid) is the map frame of core/map_frame.h (REP-103): z up along the
+// floor normal, x the first camera's optical axis laid onto the floor (the top of its image
+// when it looks straight down), y = z x x (left), origin on the floor below the first
+// camera's centre. The grid, the clouds and the octomaps are all in it.
 //
 // Stateless and thread-safe.
 #pragma once
@@ -21,6 +21,9 @@
 #include <string>
 #include <vector>
 
+#include "camera/pinhole_camera.h"
+#include "core/map.h"
+#include "core/map_frame.h"
 #include "core/se3.h"
 #include "dense/cloud_fusion.h"
 #include "dense/dense_options.h"
@@ -33,7 +36,7 @@ struct FloorPlane {
   std::string method;        ///< "ransac", "gravity", or "gravity (no level plane found)"
   int inliers = 0;           ///< ransac: points of the (subsampled) cloud on the plane
   int candidates = 0;        ///< ransac: level planes considered
-  SE3 T_w_grid;              ///< the grid frame above
+  SE3 T_w_grid;              ///< the floor (map) frame above
 
   double height(const Eigen::Vector3d& p_w) const { return up_w.dot(p_w) - height0; }
 };
@@ -45,5 +48,12 @@ struct FloorPlane {
 /// `method` says so.
 FloorPlane estimateFloor(const std::vector<FusedPoint>& cloud, const SE3& T_w_c0, const Eigen::Vector3d& up_c,
                          const DenseOptions& options);
+
+/// The map frame of `map` (core/map_frame.h): the floor of `cloud_w` (world frame: the
+/// fused dense cloud), or of the map points when `cloud_w` is empty (a run without dense
+/// clouds); `floor` (may be null) receives the floor found. `camera` is the map's camera.
+/// Locks nothing: the caller keeps others from changing `map` (as for fuseCloud).
+MapFrame estimateMapFrame(const Map& map, const PinholeCamera& camera, const std::vector<FusedPoint>& cloud_w,
+                          const DenseOptions& options, FloorPlane* floor = nullptr);
 
 }  // namespace plslam

@@ -25,15 +25,15 @@ void configure(Tree* tree, const DenseOptions& o) {
 // Inserts every keyframe's cloud as a scan from its camera centre; true when all were.
 template <typename Tree>
 bool insertKeyframes(Tree* tree, const Map& map, const DenseOptions& o, const char* stage,
-                     const DenseProgress& progress) {
+                     const DenseProgress& progress, const SE3& T_out_w) {
   const size_t total = map.keyframes().size();
   size_t done = 0;
   for (const auto& [id, kf] : map.keyframes()) {
     if (!kf.dense.empty()) {
       octomap::Pointcloud scan;
       scan.reserve(kf.dense.size());
-      for (const Eigen::Vector3f& p : worldPoints(kf)) scan.push_back(p.x(), p.y(), p.z());
-      const Eigen::Vector3d c = kf.T_w_c.translation();
+      for (const Eigen::Vector3f& p : worldPoints(kf, T_out_w)) scan.push_back(p.x(), p.y(), p.z());
+      const Eigen::Vector3d c = T_out_w * kf.T_w_c.translation();
       // discretize: one ray per end voxel, not per point (the clouds are denser than the tree).
       tree->insertPointCloud(scan, octomap::point3d(c.x(), c.y(), c.z()), o.max_range_m > 0 ? o.max_range_m : -1.0,
                              /*lazy_eval=*/true, /*discretize=*/true);
@@ -47,10 +47,10 @@ bool insertKeyframes(Tree* tree, const Map& map, const DenseOptions& o, const ch
 }  // namespace
 
 std::shared_ptr<octomap::OcTree> buildOctree(const Map& map, const DenseOptions& o, const DenseProgress& progress,
-                                             bool* cancelled) {
+                                             bool* cancelled, const SE3& T_out_w) {
   auto tree = std::make_shared<octomap::OcTree>(o.octree_resolution_m);
   configure(tree.get(), o);
-  const bool complete = insertKeyframes(tree.get(), map, o, "octomap", progress);
+  const bool complete = insertKeyframes(tree.get(), map, o, "octomap", progress, T_out_w);
   if (cancelled) *cancelled = !complete;
   tree->prune();
   return tree;
@@ -141,10 +141,11 @@ std::string octreeToOt(const octomap::ColorOcTree& tree) {
   return s.str();
 }
 
-OccupancyGrid projectToGrid(const octomap::OcTree& tree, const FloorPlane& floor, const DenseOptions& o) {
-  const SE3 T_grid_w = floor.T_w_grid.inverse();
-  const Eigen::Matrix3d R = T_grid_w.rotation();
-  const Eigen::Vector3d t = T_grid_w.translation();
+OccupancyGrid projectToGrid(const octomap::OcTree& tree, const SE3& T_tree_grid, const SE3& T_w_tree,
+                            const DenseOptions& o) {
+  const SE3 T_grid_tree = T_tree_grid.inverse();
+  const Eigen::Matrix3d R = T_grid_tree.rotation();
+  const Eigen::Vector3d t = T_grid_tree.translation();
   const double res = o.grid_resolution_m, hmin = o.grid_min_height_m, hmax = o.grid_max_height_m;
   const double sample = 0.5 * std::min(res, o.octree_resolution_m);
 
@@ -179,7 +180,7 @@ OccupancyGrid projectToGrid(const octomap::OcTree& tree, const FloorPlane& floor
 
   OccupancyGrid g;
   g.resolution = res;
-  g.T_w_grid = floor.T_w_grid;
+  g.T_w_grid = T_w_tree * T_tree_grid;
   if (marks.empty()) return g;
   int64_t x0 = INT64_MAX, y0 = INT64_MAX, x1 = INT64_MIN, y1 = INT64_MIN;
   for (const auto& [key, state] : marks) {

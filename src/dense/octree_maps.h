@@ -22,7 +22,7 @@
 #include "core/map.h"
 #include "dense/cloud_fusion.h"
 #include "dense/dense_options.h"
-#include "dense/floor_plane.h"
+#include "core/se3.h"
 #include "dense/occupancy_grid.h"
 
 namespace octomap {
@@ -34,8 +34,11 @@ namespace plslam {
 
 /// The occupancy octree of every keyframe's cloud (final poses). Same caller duty as
 /// fuseCloud(); `cancelled` (may be null) is set when progress stopped it (tree partial).
+/// The tree is built in the frame `out` of T_out_w (the map frame: T_map_world), so that
+/// its voxels are aligned with the floor; the world frame by default.
 std::shared_ptr<octomap::OcTree> buildOctree(const Map& map, const DenseOptions& options,
-                                             const DenseProgress& progress = {}, bool* cancelled = nullptr);
+                                             const DenseProgress& progress = {}, bool* cancelled = nullptr,
+                                             const SE3& T_out_w = SE3());
 /// The occupancy of `occupancy` in a ColorOcTree, occupied voxels coloured from `fused`
 /// (see above).
 std::shared_ptr<octomap::ColorOcTree> buildSemanticOctree(const octomap::OcTree& occupancy,
@@ -46,11 +49,15 @@ std::shared_ptr<octomap::ColorOcTree> buildSemanticOctree(const octomap::OcTree&
 std::string octreeToBt(const octomap::OcTree& tree);
 std::string octreeToOt(const octomap::ColorOcTree& tree);
 
-/// The 2D grid between grid_min_height_m and grid_max_height_m above `floor`: a cell is
-/// occupied when any occupied voxel of that band lies over it, free when voxels of the band
-/// over it were seen free and none occupied, unknown otherwise. Voxels are sampled at half
-/// the cell size so that none falls between cells of the (possibly tilted) floor frame.
-OccupancyGrid projectToGrid(const octomap::OcTree& tree, const FloorPlane& floor, const DenseOptions& options);
+/// The 2D grid in the floor frame `grid` (z up, origin on the floor; T_tree_grid: its pose
+/// in the tree's frame, identity when the tree was built in the map frame) between
+/// grid_min_height_m and grid_max_height_m above the floor: a cell is occupied when any
+/// occupied voxel of that band lies over it, free when voxels of the band over it were seen
+/// free and none occupied, unknown otherwise. Voxels are sampled at half the cell size so
+/// that none falls between cells of a tilted floor frame. The grid's T_w_grid is
+/// T_w_tree * T_tree_grid (T_w_tree: the tree's frame in the SLAM world).
+OccupancyGrid projectToGrid(const octomap::OcTree& tree, const SE3& T_tree_grid, const SE3& T_w_tree,
+                            const DenseOptions& options);
 
 /// What an octree holds, for summaries.
 struct OctreeSummary {

@@ -389,7 +389,8 @@ void checkKeyframe(const KeyFrame& kf, const PinholeCamera& camera, const std::s
 
 }  // namespace
 
-std::string serializeMap(const Map& map, const PinholeCamera& camera, const std::string& config_yaml) {
+std::string serializeMap(const Map& map, const PinholeCamera& camera, const std::string& config_yaml,
+                         const MapFrame* frame) {
   mapfile::Container c;
   std::lock_guard<std::mutex> lock(map.mutex());
   c.keyframes = static_cast<int64_t>(map.keyframes().size());
@@ -424,11 +425,13 @@ std::string serializeMap(const Map& map, const PinholeCamera& camera, const std:
     }
     c.sections.push_back({"lines", w.take()});
   }
+  if (frame) c.sections.push_back({"map_frame", mapFrameToYaml(*frame)});
   return mapfile::packContainer(c);
 }
 
-void saveMap(const std::string& path, const Map& map, const PinholeCamera& camera, const std::string& config_yaml) {
-  writeFileAtomically(path, serializeMap(map, camera, config_yaml));
+void saveMap(const std::string& path, const Map& map, const PinholeCamera& camera, const std::string& config_yaml,
+             const MapFrame* frame) {
+  writeFileAtomically(path, serializeMap(map, camera, config_yaml, frame));
 }
 
 LoadedMap loadMap(const std::string& path) {
@@ -454,6 +457,7 @@ LoadedMap parseMap(const std::string& bytes, const std::string& file) {
     }
   }
   out.config_yaml = required(c, "config", file).bytes;
+  if (const mapfile::Section* s = c.find("map_frame")) out.frame = parseMapFrameYaml(s->bytes, file + " (map_frame section)");
 
   std::map<Id, KeyFrame> keyframes;
   std::map<Id, MapPoint> points;

@@ -11,6 +11,9 @@
 //              instances, dense cloud, dynamic mask (run-length coded, or absent)
 //   points     id, position, descriptor, observations, first keyframe, visible / found
 //   lines      id, endpoints, descriptor, observations, first keyframe, visible / found
+//   map_frame  optional: T_map_world and how it was found, the text of map_frame.yaml
+//              (core/map_frame.h). Added without a version bump: readers skip unknown
+//              sections, and files without it load with no map frame.
 // Every number is little-endian (floats as their IEEE-754 bits), every count u32.
 //
 // Errors: IoError for the file itself (missing, unreadable, not a map, other format
@@ -19,10 +22,12 @@
 // file and the section.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "camera/pinhole_camera.h"
 #include "core/map.h"
+#include "core/map_frame.h"
 
 namespace plslam {
 
@@ -34,15 +39,19 @@ struct LoadedMap {
   std::string config_yaml;   ///< the run configuration that built it (may be empty)
   std::string writer;        ///< what wrote the file
   Map map;                   ///< entities with their saved ids; new ones get larger ids
+  std::optional<MapFrame> frame;  ///< the map frame of its outputs (absent in older files)
 };
 
 /// The file's bytes. Deterministic: the same map, camera and text give the same bytes.
 /// Locks map.mutex() while it reads. Throws DataError for what the format cannot hold
 /// (descriptors that are not CV_8UC1, masks that are not CV_8UC1 of the camera's size).
-std::string serializeMap(const Map& map, const PinholeCamera& camera, const std::string& config_yaml);
+/// `frame` (may be null) is stored as the map_frame section.
+std::string serializeMap(const Map& map, const PinholeCamera& camera, const std::string& config_yaml,
+                         const MapFrame* frame = nullptr);
 /// serializeMap() written atomically (core/atomic_file.h): an interruption leaves the
 /// previous file or none, never a partial one.
-void saveMap(const std::string& path, const Map& map, const PinholeCamera& camera, const std::string& config_yaml);
+void saveMap(const std::string& path, const Map& map, const PinholeCamera& camera, const std::string& config_yaml,
+             const MapFrame* frame = nullptr);
 
 /// Reads and checks a map file (see the error list above).
 LoadedMap loadMap(const std::string& path);

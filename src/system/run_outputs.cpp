@@ -7,6 +7,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "dense/floor_plane.h"
 #include "io/trajectory_file.h"
 #include "mapfile/map_file.h"
 
@@ -98,7 +99,7 @@ std::string framesToCsv(const std::vector<FrameRecord>& records) {
   return os.str();
 }
 
-std::string sparseMapToPly(const Map& map) {
+std::string sparseMapToPly(const Map& map, const SE3& T_out_w) {
   std::lock_guard<std::mutex> lock(map.mutex());
   const size_t np = map.points().size(), nl = map.lines().size();
   std::ostringstream os;
@@ -108,11 +109,12 @@ std::string sparseMapToPly(const Map& map) {
      << "element edge " << nl << "\nproperty int vertex1\nproperty int vertex2\nend_header\n";
   char buf[128];
   for (const auto& [id, p] : map.points()) {
-    std::snprintf(buf, sizeof(buf), "%.5f %.5f %.5f 160 160 160\n", p.p_w.x(), p.p_w.y(), p.p_w.z());
+    const Eigen::Vector3d q = T_out_w * p.p_w;
+    std::snprintf(buf, sizeof(buf), "%.5f %.5f %.5f 160 160 160\n", q.x(), q.y(), q.z());
     os << buf;
   }
   for (const auto& [id, l] : map.lines()) {
-    for (const Eigen::Vector3d& e : {l.P_w, l.Q_w}) {
+    for (const Eigen::Vector3d& e : {Eigen::Vector3d(T_out_w * l.P_w), Eigen::Vector3d(T_out_w * l.Q_w)}) {
       std::snprintf(buf, sizeof(buf), "%.5f %.5f %.5f 230 40 40\n", e.x(), e.y(), e.z());
       os << buf;
     }
@@ -121,18 +123,31 @@ std::string sparseMapToPly(const Map& map) {
   return os.str();
 }
 
+MapFrame sparseMapFrame(const System& system) {
+  std::lock_guard<std::mutex> lock(system.map().mutex());
+  return estimateMapFrame(system.map(), system.camera(), {}, system.options().dense);
+}
+
 void writeRunOutputs(const std::string& dir, const System& system, const std::string& config_yaml,
-                     const std::string& stats_extra, const std::string& map_path) {
+                     const std::string& stats_extra, const std::string& map_path, const MapFrame* frame) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (!std::filesystem::is_directory(dir)) throw IoError(dir + ": cannot create the output folder");
-  writeTumTrajectory(dir + "/trajectory.txt", system.trajectory(), "plslam trajectory: every tracked frame, T_w_c");
+  const MapFrame map_frame = frame ? *frame : sparseMapFrame(system);
+  const Trajectory trajectory = system.trajectory();
+  Trajectory in_map = trajectory;
+  for (StampedPose& p : in_map) p.T_w_c = map_frame.T_map_world * p.T_w_c;
+  writeTumTrajectory(dir + "/trajectory.txt", trajectory, "plslam trajectory: every tracked frame, T_w_c");
+  writeTumTrajectory(dir + "/" + kTrajectoryMap, in_map,
+                     "plslam trajectory in the map frame (map_frame.yaml): every tracked frame, T_map_c");
   writeTumTrajectory(dir + "/keyframes.txt", system.keyframeTrajectory(), "plslam keyframes, T_w_c");
-  writeFileAtomically(dir + "/sparse_map.ply", sparseMapToPly(system.map()));
+  writeFileAtomically(dir + "/" + kMapFrameYaml, mapFrameToYaml(map_frame));
+  writeFileAtomically(dir + "/sparse_map.ply", sparseMapToPly(system.map(), map_frame.T_map_world));
   writeFileAtomically(dir + "/stats.json", statsToJson(system.stats(), stats_extra));
   writeFileAtomically(dir + "/frames.csv", framesToCsv(system.records()));
   if (!config_yaml.empty()) writeFileAtomically(dir + "/config.yaml", config_yaml);
-  saveMap(map_path.empty() ? dir + "/" + kDefaultMapFileName : map_path, system.map(), system.camera(), config_yaml);
+  saveMap(map_path.empty() ? dir + "/" + kDefaultMapFileName : map_path, system.map(), system.camera(), config_yaml,
+          &map_frame);
 }
 
 }  // namespace plslam

@@ -1,17 +1,21 @@
 // What a run leaves in its output folder, each file written atomically:
-//   trajectory.txt   TUM format, every tracked frame, final poses (T_w_c)
-//   keyframes.txt    TUM format, keyframe poses
-//   sparse_map.ply   ASCII PLY: map points (grey) and 3D line endpoints (red) as vertices,
+//   trajectory.txt   TUM format, every tracked frame, final poses (T_w_c, SLAM world = the
+//                    first keyframe's camera: the TUM convention, for evaluation)
+//   trajectory_map.txt  the same camera poses in the map frame (T_map_c)
+//   keyframes.txt    TUM format, keyframe poses (T_w_c)
+//   map_frame.yaml   T_map_world and how it was found (core/map_frame.h)
+//   sparse_map.ply   map frame, ASCII PLY: map points (grey) and 3D line endpoints (red) as vertices,
 //                    each 3D line an `edge` between its two endpoints (PCL, CloudCompare,
 //                    MeshLab and Open3D read the vertices; CloudCompare/MeshLab draw the edges)
 //   stats.json       run figures (see RunStats)
 //   config.yaml      the effective configuration
-//   map.plmap        the map (keyframes, landmarks, camera, configuration) for
+//   map.plmap        the map (keyframes, landmarks, camera, configuration, map frame) for
 //                    `plslam run --map map.plmap [--localize]` (mapfile/map_file.h)
 #pragma once
 
 #include <string>
 
+#include "core/map_frame.h"
 #include "system/system.h"
 
 namespace plslam {
@@ -19,17 +23,25 @@ namespace plslam {
 /// Statistics as one JSON object. `extra` (JSON members without braces, may be empty) is
 /// appended for the caller's own fields (dataset, ATE...).
 std::string statsToJson(const RunStats& stats, const std::string& extra = "");
-/// The sparse map as ASCII PLY (points and lines, see above).
 /// One CSV line per input frame (header first): time, status, tracking and feature times, the
 /// time of each stage (core/profile.h), segmentation, counts. What `frames.csv` holds.
 std::string framesToCsv(const std::vector<FrameRecord>& records);
 
-std::string sparseMapToPly(const Map& map);
-/// Writes trajectory.txt, keyframes.txt, sparse_map.ply, stats.json (and config.yaml when
-/// `config_yaml` is not empty) into `dir` (created if needed), and the map to `map_path`
-/// (empty: dir/map.plmap).
+/// The sparse map as ASCII PLY (points and lines, see above). Points and line endpoints
+/// are moved by T_out_w (the map frame: T_map_world).
+std::string sparseMapToPly(const Map& map, const SE3& T_out_w = SE3());
+
+inline constexpr char kTrajectoryMap[] = "trajectory_map.txt";
+
+/// The map frame from the floor of the sparse map points (for runs without dense clouds).
+MapFrame sparseMapFrame(const System& system);
+
+/// Writes the files above into `dir` (created if needed; config.yaml only when
+/// `config_yaml` is not empty), and the map to `map_path` (empty: dir/map.plmap), in the
+/// map frame `frame` (the dense products' one), or when null sparseMapFrame(system).
 void writeRunOutputs(const std::string& dir, const System& system, const std::string& config_yaml,
-                     const std::string& stats_extra = "", const std::string& map_path = "");
+                     const std::string& stats_extra = "", const std::string& map_path = "",
+                     const MapFrame* frame = nullptr);
 
 /// Median / mean / 95th percentile / maximum of `v` (0 when empty). The maximum is the
 /// worst latency, where a frame waited for a loop correction.

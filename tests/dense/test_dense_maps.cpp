@@ -93,7 +93,7 @@ TEST(FloorPlane, StartsFromTheTopOfTheImageAlsoWhenFyIsNegative) {
   // A room seen from its first camera (the world frame): floor 1.2 m below, ceiling 1.3 m
   // above, a wall 4 m ahead. With fy > 0 the camera's y points down; the camera of the same
   // images with fy < 0 (ICL-NUIM's convention) has y up, so its cloud is the mirror in y.
-  // Both must find the floor, not the ceiling, and a grid whose y is the camera's forward.
+  // Both must find the floor, not the ceiling, and a grid whose x is the camera's forward.
   PinholeCamera normal = smallCamera(), flipped = smallCamera();
   flipped.fy = -flipped.fy;
   flipped.cy = (flipped.height - 1) - flipped.cy;
@@ -118,7 +118,7 @@ TEST(FloorPlane, StartsFromTheTopOfTheImageAlsoWhenFyIsNegative) {
       EXPECT_NEAR(fl.height0, -1.2, 0.01) << "the floor is 1.2 m below the camera";
       EXPECT_NEAR(fl.height(Eigen::Vector3d(0, 0, 0)), 1.2, 0.01);
       const Eigen::Matrix3d R = fl.T_w_grid.rotation();
-      EXPECT_GT(R.col(1).dot(Eigen::Vector3d::UnitZ()), 0.999) << "grid y is the camera's forward";
+      EXPECT_GT(R.col(0).dot(Eigen::Vector3d::UnitZ()), 0.999) << "grid (map) x is the camera's forward";
       EXPECT_GT(R.col(2).dot(fl.up_w), 0.999);
     }
   }
@@ -279,7 +279,7 @@ TEST(DenseMaps, GridMatchesTheWallsAndFurnitureAndReadsBack) {
   DenseSelection grid_only;
   grid_only.pcd = grid_only.ply = grid_only.octomap = grid_only.semantic_octomap = false;
   const std::vector<WrittenFile> files = writeDenseProducts(dir, p, grid_only, o.dense);
-  ASSERT_EQ(files.size(), 3u);  // grid.pgm, grid.yaml, dense_products.json
+  ASSERT_EQ(files.size(), 4u);  // map_frame.yaml, grid.pgm, grid.yaml, dense_products.json
   const OccupancyGrid back = readGrid(dir + "/grid.yaml");
   EXPECT_EQ(back.width, p.grid.width);
   EXPECT_EQ(back.height, p.grid.height);

@@ -325,3 +325,27 @@ TEST(MapFile, DamagedContentNeverCrashes) {
   EXPECT_GT(refused, 3000) << "most damage must be refused";
   std::printf("damaged maps: %d refused, %d accepted (damage in unchecked values such as positions)\n", refused, accepted);
 }
+
+TEST(MapFile, MapFrameSectionRoundTripsAndOlderFilesLoadWithoutIt) {
+  const test::BuiltMap& b = test::builtMap();
+  MapFrame f;
+  f.T_map_world = SE3(Eigen::Quaterniond(Eigen::AngleAxisd(1.7, Eigen::Vector3d(1, 0.2, 0).normalized())),
+                      Eigen::Vector3d(0, 0.1, 1.3));
+  f.floor_method = "ransac";
+  f.floor_source = "dense";
+  const LoadedMap with = parseMap(serializeMap(Map(), b.camera, "x", &f), "with.plmap");
+  ASSERT_TRUE(with.frame.has_value());
+  EXPECT_LT((with.frame->T_map_world.inverse() * f.T_map_world).angle(), 1e-8);
+  EXPECT_LT((with.frame->T_map_world.translation() - f.T_map_world.translation()).norm(), 1e-8);
+  EXPECT_EQ(with.frame->floor_method, "ransac");
+  // A file without the section (as written before it existed) loads, with no frame.
+  const std::string older = serializeMap(Map(), b.camera, "x");
+  EXPECT_FALSE(parseMap(older, "older.plmap").frame.has_value());
+  EXPECT_EQ(mapfile::unpackContainer(older, "older").version, mapfile::kFormatVersion) << "no version bump";
+  // A damaged section (valid CRC, bad content) is refused naming it.
+  mapfile::Container c = mapfile::unpackContainer(serializeMap(Map(), b.camera, "x", &f), "with");
+  for (mapfile::Section& s : c.sections)
+    if (s.name == "map_frame") s.bytes.replace(s.bytes.find("rotation: ["), 11, "rotation: [7, ");
+  const std::string msg = refusal<IoError>(mapfile::packContainer(c));
+  EXPECT_NE(msg.find("map_frame section"), std::string::npos) << msg;
+}

@@ -35,7 +35,8 @@ TEST(RunCli, WritesEveryOutputAndTheAte) {
   const auto r = test::runPlslam(runArgs(data, scratch + "/out") + " --sequential --quiet");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("ATE RMSE"), std::string::npos) << r.output;
-  for (const char* f : {"trajectory.txt", "keyframes.txt", "sparse_map.ply", "stats.json", "config.yaml"})
+  for (const char* f : {"trajectory.txt", "trajectory_map.txt", "keyframes.txt", "map_frame.yaml", "sparse_map.ply",
+                        "stats.json", "config.yaml", "octomap.bt"})
     EXPECT_TRUE(fs::exists(scratch + "/out/" + f)) << f;
   const std::string stats = test::readFile(scratch + "/out/stats.json");
   EXPECT_NE(stats.find("\"frames\": 30"), std::string::npos) << stats;
@@ -44,6 +45,22 @@ TEST(RunCli, WritesEveryOutputAndTheAte) {
   const auto again = test::runPlslam(runArgs(data, scratch + "/out2") + " --quiet --config " + scratch + "/out/config.yaml");
   EXPECT_EQ(again.status, 0) << again.output;
   EXPECT_EQ(test::readFile(scratch + "/out/trajectory.txt"), test::readFile(scratch + "/out2/trajectory.txt"));
+}
+
+// One map frame for a map's outputs: the run's (from the dense floor), the same again from
+// `plslam export` of its map file; without dense clouds it comes from the map points.
+TEST(RunCli, RunAndExportShareTheMapFrame) {
+  const std::string scratch = test::scratchDir("runcli_frame");
+  const std::string data = syntheticFolder(scratch, 30);
+  ASSERT_EQ(test::runPlslam(runArgs(data, scratch + "/out") + " --sequential --quiet").status, 0);
+  const std::string frame = test::readFile(scratch + "/out/map_frame.yaml");
+  EXPECT_NE(frame.find("floor_source: dense"), std::string::npos) << frame;
+  const auto r = test::runPlslam("export --map " + scratch + "/out/map.plmap --out " + scratch + "/exp --octomap --quiet");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("from the map file"), std::string::npos) << r.output;
+  EXPECT_EQ(test::readFile(scratch + "/exp/map_frame.yaml"), frame);
+  ASSERT_EQ(test::runPlslam(runArgs(data, scratch + "/sparse") + " --sequential --quiet --no-dense").status, 0);
+  EXPECT_NE(test::readFile(scratch + "/sparse/map_frame.yaml").find("floor_source: sparse"), std::string::npos);
 }
 
 TEST(RunCli, BadConfigurationIsRefusedNamingTheKey) {

@@ -36,7 +36,8 @@ int runExport(int argc, char** argv) {
       .epilog(
           "All products when none of --pcd --ply --octomap --grid is given. Each file is written atomically;\n"
           "Ctrl-C stops without leaving a partial product. dense_products.json lists counts, the floor,\n"
-          "time and peak memory per step, and the file sizes.\n\n"
+          "time and peak memory per step, and the file sizes. Every product is in the map frame stored in\n"
+          "the map (map_frame.yaml; for an older map without one it is found from the floor as run does).\n\n"
           "example: plslam export --map maps/fr1_xyz/map.plmap --out maps/fr1_xyz/dense --voxel 0.01 --resolution 0.05");
   if (!args.parse(argc, argv)) return 0;
   setLogLevel(parseLogLevel(args.str("log-level")));
@@ -80,7 +81,11 @@ int runExport(int argc, char** argv) {
   if (with_cloud == 0)
     throw DataError(args.str("map") + ": none of its " + std::to_string(loaded.map.keyframes().size()) +
                     " keyframes has a dense cloud (was it made with dense.enabled: false?)");
-  return writeDenseMaps(loaded.map, loaded.camera, o, what, args.str("out"), !args.has("quiet")) ? 0 : 130;
+  // The map frame stored with the map (the run's outputs are in it); older maps: found anew.
+  return writeDenseMaps(loaded.map, loaded.camera, o, what, args.str("out"), !args.has("quiet"),
+                        loaded.frame ? &*loaded.frame : nullptr)
+             ? 0
+             : 130;
 }
 
 }  // namespace

@@ -51,10 +51,13 @@ Args runArguments() {
       .flag("localize", "with --map: track in the map without changing it (no keyframes, no mapping); poses in its world frame")
       .option("save-map", "where to write the map at the end (default: <out>/map.plmap)")
       .epilog(
-          "outputs: trajectory.txt (TUM, every tracked frame), keyframes.txt, sparse_map.ply, stats.json, config.yaml,\n"
+          "outputs: trajectory.txt (TUM, every tracked frame, first camera's frame), trajectory_map.txt (the same in the\n"
+          "map frame), keyframes.txt, map_frame.yaml, sparse_map.ply, stats.json, config.yaml,\n"
           "map.plmap (the map, for --map; written atomically, also after Ctrl-C)\n"
           "and the dense products (unless --no-dense; see plslam export): dense_cloud.pcd, dense_cloud_semantic.ply,\n"
           "octomap.bt, octomap_semantic.ot, grid.pgm + grid.yaml, dense_products.json\n"
+          "Every world-frame output but trajectory.txt and keyframes.txt is in the map frame (z up, x forward,\n"
+          "origin on the floor below the first camera; map_frame.yaml holds T_map_world).\n"
           "When the folder has groundtruth.txt, the ATE is printed and added to stats.json.\n"
           "Ctrl-C stops the run and still writes what it has.\n\n"
           "A bag is read in TUM's layout (/camera/rgb/image_color, /camera/depth/image in float metres,\n"
@@ -183,12 +186,17 @@ int runRun(int argc, char** argv) {
 
   const RunEvaluation evaluation = evaluateRun(dataset, slam.trajectory());
   const std::string ate_line = evaluation.text();
+  // The dense products first: the floor of their cloud gives the map frame of every output
+  // (a loaded map keeps its own, so that its sessions share one map frame).
+  std::optional<MapFrame> frame = config.map ? config.map->frame : std::nullopt;
+  const bool dense = !args.has("no-dense") && options.dense.enabled;
+  const bool dense_done = !dense || writeDenseMaps(slam.map(), camera, options.dense, {}, out, progress,
+                                                   frame ? &*frame : nullptr, &frame);
   writeRunOutputs(out, slam, config.config_yaml, runStatsExtra(dataset, evaluation),
-                  args.has("save-map") ? args.str("save-map") : std::string());
+                  args.has("save-map") ? args.str("save-map") : std::string(), frame ? &*frame : nullptr);
 
   printSummary(slam.stats(), dataset, ate_line, out);
-  if (!args.has("no-dense") && options.dense.enabled && !writeDenseMaps(slam.map(), camera, options.dense, {}, out, progress))
-    return 130;
+  if (!dense_done) return 130;
   return fed.interrupted ? 130 : 0;
 }
 

@@ -3,6 +3,7 @@
 // build without leaving a partial file, and a summary of time, memory and file sizes.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "core/map.h"
@@ -10,11 +11,14 @@
 
 namespace plslam::cli {
 
-/// Builds the selected products of `map` (seen by `camera`) and writes them into `dir`.
+/// Builds the selected products of `map` (seen by `camera`) in the map frame `given` (a
+/// saved map's; null: found from the floor of the fused cloud) and writes them into `dir`.
 /// Prints one line per step (time, peak resident memory) and per file (size) on stdout.
-/// Returns false when Ctrl-C stopped it (then only dense_products.json, marked cancelled,
-/// is written).
+/// `used` (may be null) receives the map frame of the products, unless Ctrl-C came before
+/// it was found. Returns false when Ctrl-C stopped it (then only dense_products.json,
+/// marked cancelled, is written).
 bool writeDenseMaps(const Map& map, const PinholeCamera& camera, const DenseOptions& options,
-                    const DenseSelection& what, const std::string& dir, bool progress);
+                    const DenseSelection& what, const std::string& dir, bool progress,
+                    const MapFrame* given = nullptr, std::optional<MapFrame>* used = nullptr);
 
 }  // namespace plslam::cli
