@@ -104,11 +104,16 @@ void LiveSession::stop() {
 
 void LiveSession::writeOutputs(const std::string& dir, const std::string& stats_extra, bool dense) {
   if (!stopped_) throw Error("LiveSession::writeOutputs before stop()");
-  writeRunOutputs(dir, system_, config_yaml_, stats_extra);
+  // The dense products first: the floor of their cloud gives the map frame of every output,
+  // as in plslam run (without them the run outputs find the floor in the sparse map).
   const DenseOptions& dopt = system_.options().dense;
-  if (!dense || !dopt.enabled) return;
+  if (!dense || !dopt.enabled) {
+    writeRunOutputs(dir, system_, config_yaml_, stats_extra);
+    return;
+  }
   const DenseProducts products = buildDenseProducts(system_.map(), system_.camera(), dopt);
   writeDenseProducts(dir, products, {}, dopt);
+  writeRunOutputs(dir, system_, config_yaml_, stats_extra, "", &products.frame);
 }
 
 }  // namespace plslam
