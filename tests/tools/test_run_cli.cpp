@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <thread>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "support/test_support.h"
 
 using namespace plslam;
@@ -118,4 +120,22 @@ TEST(RunCli, ProgressInALogIsPlainLinesEndingWithTheLastState) {
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_EQ(r.output.find('\r'), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("[run] frame 30/30"), std::string::npos) << r.output;
+}
+
+TEST(RunCli, MasksInAnotherFormatAreIgnoredUnlessReplayIsAsked) {
+  // Binary 8-bit masks (what ../shared/tools/make_walkers.py writes) over the 16-bit
+  // instance masks: only --segmenter replay reads masks/, and it refuses them by name.
+  const std::string scratch = test::scratchDir("runcli_masks");
+  const std::string data = syntheticFolder(scratch, 20);
+  for (const auto& entry : fs::directory_iterator(data + "/masks"))
+    if (entry.path().extension() == ".png") {
+      cv::Mat eight(cv::Size(4, 4), CV_8UC1, cv::Scalar(255));
+      ASSERT_TRUE(cv::imwrite(entry.path().string(), eight));
+    }
+  const auto plain = test::runPlslam(runArgs(data, scratch + "/out") + " --sequential --no-dense");
+  ASSERT_EQ(plain.status, 0) << plain.output;
+  EXPECT_NE(plain.output.find("[run] frame 20/20"), std::string::npos) << plain.output;
+  const auto replay = test::runPlslam(runArgs(data, scratch + "/out2") + " --sequential --no-dense --segmenter replay");
+  EXPECT_NE(replay.status, 0);
+  EXPECT_NE(replay.output.find("16-bit"), std::string::npos) << replay.output;
 }

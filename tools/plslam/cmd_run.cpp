@@ -106,6 +106,9 @@ OpenedSource openRunSource(const Args& args, RunConfig* config) {
   DatasetOptions dopt;
   dopt.max_frames = args.integer("max-frames", 0, 100000000);
   dopt.groundtruth_file = args.str("groundtruth");
+  // Instance masks are the replay segmenter's input and nothing else's: a folder whose
+  // masks/ are in another format (binary walker masks, say) must still run without it.
+  dopt.load_masks = config->options.segmenter.kind == SegmenterKind::kReplay;
   OpenedSource opened = openFrameSource(args.str("dataset"), calib ? &*calib : nullptr, dopt);
   const FrameSource& dataset = *opened.source;
   const PinholeCamera& camera = opened.camera;
