@@ -11,16 +11,14 @@
 
 #include "eval/trajectory_eval.h"
 #include "synth/renderer.h"
+#include "synthetic_cache.h"
 #include "system/system.h"
 
 using namespace plslam;
 
 namespace {
 
-struct Sequence {
-  synth::Scene scene;
-  std::vector<synth::RenderedFrame> frames;
-};
+using Sequence = test::RenderedSequence;
 
 struct LapSize {
   int width, height, frames;
@@ -32,15 +30,7 @@ Sequence renderLap(const LapSize& size) {
   o.width = size.width;
   o.height = size.height;
   o.frames = size.frames;
-  Sequence s{synth::makeScene(synth::SceneKind::kLoop, o), {}};
-  s.frames.resize(o.frames);
-  std::vector<std::thread> workers;
-  for (int t = 0; t < 2; ++t)
-    workers.emplace_back([&s, t, n = o.frames] {
-      for (int i = t; i < n; i += 2) s.frames[i] = synth::render(s.scene, i);
-    });
-  for (auto& w : workers) w.join();
-  return s;
+  return test::renderSequence(synth::SceneKind::kLoop, o);
 }
 
 struct RunOutcome {

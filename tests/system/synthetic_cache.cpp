@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <thread>
 
 #include "synth/dataset.h"
 
@@ -31,6 +32,18 @@ std::string syntheticSequence(synth::SceneKind kind, int frames) {
     ::close(fd);
   }
   return dir.string();
+}
+
+RenderedSequence renderSequence(synth::SceneKind kind, const synth::SceneOptions& options) {
+  RenderedSequence s{synth::makeScene(kind, options), {}};
+  s.frames.resize(options.frames);
+  std::vector<std::thread> workers;
+  for (int t = 0; t < 2; ++t)
+    workers.emplace_back([&s, t, n = options.frames] {
+      for (int i = t; i < n; i += 2) s.frames[i] = synth::render(s.scene, i);
+    });
+  for (auto& w : workers) w.join();
+  return s;
 }
 
 }  // namespace plslam::test

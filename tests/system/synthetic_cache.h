@@ -3,12 +3,22 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
+#include "synth/renderer.h"
 #include "synth/scene.h"
 
 namespace plslam::test {
 
 /// The folder of a rendered synthetic sequence (TUM layout with groundtruth.txt and camera.xml).
 std::string syntheticSequence(synth::SceneKind kind, int frames);
+
+/// A synthetic scene rendered in memory (no files), frames in order.
+struct RenderedSequence {
+  synth::Scene scene;
+  std::vector<synth::RenderedFrame> frames;
+};
+/// Renders every frame of a `kind` scene with `options`, on two threads.
+RenderedSequence renderSequence(synth::SceneKind kind, const synth::SceneOptions& options);
 
 }  // namespace plslam::test

@@ -4,41 +4,26 @@
 // out of place to make the motion model wrong by a known amount.
 #include <gtest/gtest.h>
 
-#include <thread>
-
 #include "core/error.h"
 #include "eval/trajectory_eval.h"
 #include "synth/renderer.h"
 #include "synth/scene.h"
+#include "synthetic_cache.h"
 #include "system/system.h"
 
 using namespace plslam;
 
 namespace {
 
-struct Sequence {
-  synth::Scene scene;
-  std::vector<synth::RenderedFrame> frames;
-};
+using Sequence = test::RenderedSequence;
 
-Sequence render(synth::SceneKind kind, const synth::SceneOptions& o) {
-  Sequence s{synth::makeScene(kind, o), {}};
-  s.frames.resize(o.frames);
-  std::vector<std::thread> workers;
-  for (int t = 0; t < 2; ++t)
-    workers.emplace_back([&s, t, n = o.frames] {
-      for (int i = t; i < n; i += 2) s.frames[i] = synth::render(s.scene, i);
-    });
-  for (auto& w : workers) w.join();
-  return s;
-}
 
 Sequence render(synth::SceneKind kind, int frames, int width, int height) {
   synth::SceneOptions o;
   o.width = width;
   o.height = height;
   o.frames = frames;
-  return render(kind, o);
+  return test::renderSequence(kind, o);
 }
 
 SystemOptions sequentialNoLoop() {
@@ -193,7 +178,7 @@ Fed runFastScene(double max_rotation_deg_s, int frames, double* ate) {
   o.height = 240;
   o.frames = frames;
   o.fast.max_rotation_deg_s = max_rotation_deg_s;
-  const Sequence seq = render(synth::SceneKind::kFast, o);
+  const Sequence seq = test::renderSequence(synth::SceneKind::kFast, o);
   const Fed fed = feed(seq, range(0, frames), sequentialNoLoop());
   Trajectory truth, estimate;
   for (size_t k = 0; k < fed.results.size(); ++k)
