@@ -15,6 +15,11 @@ namespace plslam {
 
 namespace {
 const Logger kLog("frontend");
+
+/// Entries of a per-feature match list that hold a landmark.
+int matchedCount(const std::vector<Id>& ids) {
+  return static_cast<int>(ids.size() - std::count(ids.begin(), ids.end(), kNoId));
+}
 }
 
 const char* toString(TrackingStatus s) {
@@ -82,9 +87,9 @@ TrackingResult Tracker::track(TimeNs t_ns, const FrameFeatures& f) {
     r.reason = "localisation only, and the map is empty";
     return r;
   }
+  have_frame_words_ = false;  // a new frame: its words are described on first use
   if (!have_last_) return initialise(t_ns, f);
   times_ = StageTimes();
-  have_frame_words_ = false;
   TrackingResult r = trackInitialised(t_ns, f);
   r.times = times_;
   return r;
@@ -130,8 +135,8 @@ TrackingResult Tracker::trackInitialised(TimeNs t_ns, const FrameFeatures& f) {
   if (!options_.localization_only) {
     countVisibleAndFound(m, &r);
   } else {
-    r.matched_points = static_cast<int>(m.point_ids.size() - std::count(m.point_ids.begin(), m.point_ids.end(), kNoId));
-    r.matched_lines = static_cast<int>(m.line_ids.size() - std::count(m.line_ids.begin(), m.line_ids.end(), kNoId));
+    r.matched_points = matchedCount(m.point_ids);
+    r.matched_lines = matchedCount(m.line_ids);
     updateReferenceKeyframe(m);
   }
   r.inliers = r.matched_points + r.matched_lines;
@@ -223,15 +228,14 @@ Tracker::Attempt Tracker::trackReferenceKeyframe(const LocalMap& local, const SE
     std::lock_guard<std::mutex> lock(map_->mutex());
     *m = matchKeyframe(reference_kf_, f);
   }
-  const auto matched = [](const std::vector<Id>& ids) { return static_cast<int>(ids.size() - std::count(ids.begin(), ids.end(), kNoId)); };
-  const int n = matched(m->point_ids) + matched(m->line_ids);
+  const int n = matchedCount(m->point_ids) + matchedCount(m->line_ids);
   if (n < options_.min_vocabulary_matches) {
     a.reason = str(n, " vocabulary matches");
     return a;
   }
   // PnP does not need the prediction, so it survives any rotation; lines alone start from it.
   SE3 start = predicted;
-  if (matched(m->point_ids) >= options_.min_pnp_points) poseByPnP(f, m, &start);
+  if (matchedCount(m->point_ids) >= options_.min_pnp_points) poseByPnP(f, m, &start);
   return refineWithLocalMap(local, start, f, m, options_.min_inliers);
 }
 
@@ -620,7 +624,7 @@ Id Tracker::makeKeyframe(TimeNs t_ns, const SE3& T_w_c, const FrameFeatures& f, 
     map_->addPointObservation(id, static_cast<int>(i), pid);
     ++created;
   }
-  places_.add(id, f);
+  if (places_.enabled()) places_.add(id, frameWords(f));  // computed once if a fallback already needed them
   reference_kf_ = id;
   // What later frames are compared with: the landmarks this keyframe was tracked with
   // (the first keyframe has only the ones it created).

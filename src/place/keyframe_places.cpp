@@ -11,10 +11,13 @@ KeyframePlaces::KeyframePlaces(std::shared_ptr<const VocabularySet> vocabulary) 
 FrameWords KeyframePlaces::describe(const FrameFeatures& features) const { return describeWords(*vocabulary_, features); }
 
 void KeyframePlaces::add(Id id, const FrameFeatures& features) {
+  if (enabled()) add(id, describe(features));
+}
+
+void KeyframePlaces::add(Id id, FrameWords words) {
   if (!enabled()) return;
-  FrameWords w = describe(features);
-  database_.add(id, w.bow);
-  words_[id] = std::move(w);
+  database_.add(id, words.bow);
+  words_[id] = std::move(words);
 }
 
 const FrameWords* KeyframePlaces::words(Id id) const {

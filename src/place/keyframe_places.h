@@ -39,6 +39,8 @@ class KeyframePlaces {
   FrameWords describe(const FrameFeatures& features) const;
   /// Stores (or replaces) keyframe `id`'s words.
   void add(Id id, const FrameFeatures& features);
+  /// The same with words already described (describe()).
+  void add(Id id, FrameWords words);
   /// A stored keyframe's words; null when unknown.
   const FrameWords* words(Id id) const;
   size_t size() const { return words_.size(); }
