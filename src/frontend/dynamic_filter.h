@@ -118,6 +118,8 @@ class DynamicFilter {
   int dueFrame() const;
   Segmented segmentNow(const RgbdFrame& frame, int frame_number);
   bool carriesMasks() const;
+  void matchAdjacent(const FrameFeatures& before, const FrameFeatures& f, std::vector<MotionCorrespondence>* corr,
+                     std::vector<int>* corr_keypoint) const;
   void workerLoop();
 
   PinholeCamera camera_;
