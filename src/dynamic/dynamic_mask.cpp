@@ -18,15 +18,6 @@ const char* instanceDecisionReasonName(InstanceDecisionReason reason) {
   return "unknown";
 }
 
-const char* regionDecisionReasonName(RegionDecisionReason reason) {
-  switch (reason) {
-    case RegionDecisionReason::kAccepted: return "accepted";
-    case RegionDecisionReason::kInsideInstance: return "inside_instance";
-    case RegionDecisionReason::kContradictedByGeometry: return "contradicted_by_geometry";
-  }
-  return "unknown";
-}
-
 namespace {
 
 template <typename Polygon>

@@ -67,7 +67,6 @@ enum class RegionDecisionReason {
   kInsideInstance,          ///< mostly on instances: their decisions rule
   kContradictedByGeometry,  ///< the geometric check finds its features still
 };
-const char* regionDecisionReasonName(RegionDecisionReason reason);
 
 struct RegionDecision {
   int region = -1;            ///< index into DelaunayMotionResult::regions

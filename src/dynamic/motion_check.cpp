@@ -191,17 +191,6 @@ const char* motionCheckStatusName(MotionCheckStatus status) {
   return "unknown";
 }
 
-const char* motionEvidenceName(MotionEvidence evidence) {
-  switch (evidence) {
-    case MotionEvidence::kNone: return "none";
-    case MotionEvidence::kRigid3d: return "rigid3d";
-    case MotionEvidence::kReprojection: return "reprojection";
-    case MotionEvidence::kEpipolar: return "epipolar";
-    case MotionEvidence::kRotation: return "rotation";
-  }
-  return "unknown";
-}
-
 int MotionCheckResult::checkedCount() const {
   return static_cast<int>(std::count_if(evidence.begin(), evidence.end(), [](MotionEvidence e) { return e != MotionEvidence::kNone; }));
 }
@@ -237,14 +226,6 @@ std::optional<SE3> fitRigid(const std::vector<Eigen::Vector3d>& src, const std::
   if ((V * U.transpose()).determinant() < 0) D(2, 2) = -1;
   const Eigen::Matrix3d R = V * D * U.transpose();
   return SE3(R, cd - R * cs);
-}
-
-double rigidChi2(const MotionCorrespondence& c, const SE3& T_cur_prev, const PinholeCamera& camera,
-                 const PointNoiseOptions& noise) {
-  const Eigen::Matrix3d R = T_cur_prev.rotation();
-  const Eigen::Matrix3d cov = R * pointCovariance(camera, c.uv_prev, c.p_prev.z(), noise, c.pixel_sigma_scale) * R.transpose() +
-                              pointCovariance(camera, c.uv_cur, c.p_cur.z(), noise, c.pixel_sigma_scale);
-  return chi2Of(T_cur_prev * c.p_prev - c.p_cur, cov);
 }
 
 namespace {

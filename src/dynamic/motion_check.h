@@ -105,7 +105,6 @@ enum class MotionEvidence : uint8_t {
   kEpipolar,       ///< no depth: distance to the epipolar line
   kRotation,       ///< no depth and hardly any translation: rotation transfer
 };
-const char* motionEvidenceName(MotionEvidence evidence);
 
 struct MotionCheckResult {
   MotionCheckStatus status = MotionCheckStatus::kTooFewCorrespondences;
@@ -137,10 +136,5 @@ MotionCheckResult checkMotion(const std::vector<MotionCorrespondence>& correspon
 /// without scale). Returns nullopt for fewer than 3 pairs or a degenerate (collinear) set.
 std::optional<SE3> fitRigid(const std::vector<Eigen::Vector3d>& src, const std::vector<Eigen::Vector3d>& dst,
                             const std::vector<double>& weights = {});
-
-/// Squared Mahalanobis distance of the 3D residual T * p_prev - p_cur of a correspondence
-/// with depth in both frames, in model units (checkMotion flags chi2 >= chi2_3d * noise_scale).
-double rigidChi2(const MotionCorrespondence& c, const SE3& T_cur_prev, const PinholeCamera& camera,
-                 const PointNoiseOptions& noise);
 
 }  // namespace plslam

@@ -66,6 +66,26 @@ void DynamicFilter::removeLines(FrameFeatures* f, DynamicFrameResult* r) const {
   r->lines_rejected += removeDynamicLines(f, r->mask, options_.line_masked_fraction);
 }
 
+void DynamicFilterOptions::validate() const {
+  auto require = [](bool ok, const char* key, const char* range, double value) {
+    if (!ok) throw ConfigError(str("dynamic.", key, " must be ", range, " (got ", value, ")"));
+  };
+  require(segment_every >= 1, "segment_every", ">= 1", segment_every);
+  require(compare_gap >= 1, "compare_gap", ">= 1", compare_gap);
+  require(match_radius_px > 0, "match_radius_px", "> 0", match_radius_px);
+  require(match_ratio > 0 && match_ratio <= 1, "match_ratio", "in (0, 1]", match_ratio);
+  require(match_max_distance >= 0 && match_max_distance <= 256, "match_max_distance", "in [0, 256]", match_max_distance);
+  require(line_masked_fraction >= 0 && line_masked_fraction <= 1, "line_masked_fraction", "in [0, 1]",
+          line_masked_fraction);
+  require(spread.min_still_neighbours >= 0, "mismatch_still_neighbours", ">= 0", spread.min_still_neighbours);
+  require(spread.passes >= 0, "spread_passes", ">= 0", spread.passes);
+  require(mask.moving_fraction >= 0 && mask.moving_fraction <= 1, "moving_fraction", "in [0, 1]", mask.moving_fraction);
+  require(mask.min_checked_features >= 0, "min_checked_features", ">= 0", mask.min_checked_features);
+  require(mask.dilate_px >= 0, "dilate_px", ">= 0", mask.dilate_px);
+  require(mask.moving_area_dilate_px >= 0, "moving_area_dilate_px", ">= 0", mask.moving_area_dilate_px);
+  require(latency_frames >= 0, "replay_latency_frames", ">= 0", latency_frames);
+}
+
 DynamicFilter::DynamicFilter(PinholeCamera camera, DynamicFilterOptions options, std::unique_ptr<Segmenter> segmenter,
                              bool asynchronous)
     : camera_(std::move(camera)),
@@ -73,8 +93,7 @@ DynamicFilter::DynamicFilter(PinholeCamera camera, DynamicFilterOptions options,
       segmenter_(std::move(segmenter)),
       asynchronous_(asynchronous),
       carrier_(options.propagation) {
-  if (options_.latency_frames < 0)
-    throw ConfigError(str("dynamic.replay_latency_frames must be >= 0 (got ", options_.latency_frames, ")"));
+  options_.validate();
   // The "none" segmenter gives nothing: no worker, no requests, no mask ages to report.
   if (segmenter_ && segmenter_->name() == "none") segmenter_.reset();
   if (segmenter_ && asynchronous_) worker_ = std::thread([this] { workerLoop(); });
@@ -140,7 +159,7 @@ int DynamicFilter::dueFrame() const {
   // people in view would become the map's first landmarks.
   if (frame_count_ == 0) return 0;
   if (options_.latency_frames == 0) return -1;
-  const int every = std::max(1, options_.segment_every);
+  const int every = options_.segment_every;
   const int n = frame_count_ - options_.latency_frames;
   return n < 0 ? -1 : n / every * every;
 }
@@ -156,12 +175,12 @@ std::optional<DynamicFilter::Segmented> DynamicFilter::takeDue(std::deque<Segmen
 }
 
 std::optional<DynamicFilter::Segmented> DynamicFilter::segmentInline(const RgbdFrame& frame) {
-  if (frame_count_ % std::max(1, options_.segment_every) == 0) held_back_.push_back(segmentNow(frame, frame_count_));
+  if (frame_count_ % options_.segment_every == 0) held_back_.push_back(segmentNow(frame, frame_count_));
   return takeDue(&held_back_);
 }
 
 std::optional<DynamicFilter::Segmented> DynamicFilter::segmentOnWorker(const RgbdFrame& frame) {
-  const int every = std::max(1, options_.segment_every);
+  const int every = options_.segment_every;
   std::unique_lock<std::mutex> lock(mutex_);
   // With a latency, the sequential mode's schedule (the same frames segmented). Without, ask as
   // soon as the worker is idle and `every` frames have passed since the last request: waiting
@@ -190,7 +209,7 @@ Segmentation DynamicFilter::latestSegmentation(const RgbdFrame& frame, DynamicFr
   }
   if (latest_.frame < 0) return {};
   r->mask_age_frames = frame_count_ - latest_.frame;
-  r->fresh_segmentation = r->mask_age_frames < std::max(1, options_.segment_every);
+  r->fresh_segmentation = r->mask_age_frames < options_.segment_every;
   if (r->mask_age_frames == 0 || !carriesMasks()) return latest_.source.segmentation;
   r->masks_propagated = true;
   return carrier_.carry(&r->propagation);
@@ -247,7 +266,7 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
   std::vector<int> corr_keypoint;
   if (!previous_.empty()) matchAdjacent(previous_.front(), *f, &corr, &corr_keypoint);
   previous_.push_back(FrameFeatures{f->points, f->point_descriptors, {}, cv::Mat()});  // the check uses keypoints only
-  while (static_cast<int>(previous_.size()) > std::max(1, options_.compare_gap)) previous_.pop_front();
+  while (static_cast<int>(previous_.size()) > options_.compare_gap) previous_.pop_front();
 
   MotionCheckResult motion = checkMotion(corr, camera_, options_.motion, prior);
   r.motion_status = motion.status;

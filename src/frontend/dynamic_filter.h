@@ -64,6 +64,10 @@ struct DynamicFilterOptions {
   /// flow per instance. Sequential mode without a latency never carries masks.
   bool propagate_masks = true;
   MaskPropagationOptions propagation;  ///< how
+
+  /// Throws ConfigError naming the `dynamic.` key of the first value out of range (values
+  /// are refused, never clamped).
+  void validate() const;
 };
 
 /// What the filter did with one frame.

@@ -64,6 +64,9 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
   t->bind("dynamic.compare_gap", &d.compare_gap, "check motion against the frame this many frames back");
   t->bind("dynamic.match_radius_px", &d.match_radius_px, "search radius for adjacent-frame keypoint matches (px)");
   t->bind("dynamic.match_ratio", &d.match_ratio, "adjacent-frame matches need best < ratio * second-best Hamming distance");
+  t->bind("dynamic.match_max_distance", &d.match_max_distance, "ORB Hamming distance accepted for adjacent-frame matches");
+  t->bind("dynamic.line_masked_fraction", &d.line_masked_fraction,
+          "segments with more than this fraction of their length on dynamic pixels are removed");
   t->bind("dynamic.spread_labels", &d.spread_labels, "spread motion labels to unmatched keypoints over the Delaunay graph of all keypoints");
   t->bind("dynamic.spread_with_masks", &d.spread_with_masks, "spread labels also on frames with instance masks");
   t->bind("dynamic.mismatch_still_neighbours", &d.spread.min_still_neighbours, "a moving keypoint with no moving graph neighbour and this many still ones is a mismatch");

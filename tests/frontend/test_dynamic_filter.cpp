@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <thread>
 #include <tuple>
+#include <utility>
+#include <vector>
 
 #include "core/error.h"
 #include "eval/mask_overlap.h"
@@ -231,17 +233,6 @@ TEST(DynamicFilterLatency, ThreadedFollowsTheSequentialScheduleWithSegmentEvery)
   EXPECT_EQ(ages[1], ages[0]);
 }
 
-TEST(DynamicFilterLatency, ANegativeLatencyIsAConfigErrorNamingTheKey) {
-  DynamicFilterOptions o;
-  o.latency_frames = -1;
-  try {
-    DynamicFilter filter(frames().camera, o, nullptr, false);
-    FAIL() << "a negative latency was accepted";
-  } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("dynamic.replay_latency_frames"), std::string::npos) << e.what();
-  }
-}
-
 // The crowd's first passage (frames 40 to 99 of the crowded scene: walkers near the camera,
 // tens of pixels a frame), masks 4 frames late: carried to the frame, they cover the walkers
 // (the renderer's exact masks of the frame) better than where they were.
@@ -278,6 +269,32 @@ TEST(DynamicFilterLatency, CarriedMasksCoverTheCrowdBetterThanStaleOnes) {
   EXPECT_GT(cover[1].iou(), cover[0].iou() + 0.1);
   EXPECT_GT(cover[1].precision(), cover[0].precision());
   EXPECT_GT(cover[1].recall(), cover[0].recall());
+}
+
+TEST(DynamicFilterOptions, ValuesOutOfRangeAreRefusedNamingTheKeyInsteadOfClamped) {
+  const std::vector<std::pair<const char*, void (*)(DynamicFilterOptions*)>> cases = {
+      {"dynamic.segment_every", [](DynamicFilterOptions* o) { o->segment_every = 0; }},
+      {"dynamic.compare_gap", [](DynamicFilterOptions* o) { o->compare_gap = 0; }},
+      {"dynamic.match_radius_px", [](DynamicFilterOptions* o) { o->match_radius_px = -1; }},
+      {"dynamic.match_ratio", [](DynamicFilterOptions* o) { o->match_ratio = 1.5f; }},
+      {"dynamic.match_max_distance", [](DynamicFilterOptions* o) { o->match_max_distance = 300; }},
+      {"dynamic.line_masked_fraction", [](DynamicFilterOptions* o) { o->line_masked_fraction = 2; }},
+      {"dynamic.spread_passes", [](DynamicFilterOptions* o) { o->spread.passes = -1; }},
+      {"dynamic.moving_fraction", [](DynamicFilterOptions* o) { o->mask.moving_fraction = 1.5; }},
+      {"dynamic.dilate_px", [](DynamicFilterOptions* o) { o->mask.dilate_px = -2; }},
+      {"dynamic.replay_latency_frames", [](DynamicFilterOptions* o) { o->latency_frames = -1; }},
+  };
+  for (const auto& [key, spoil] : cases) {
+    DynamicFilterOptions o;
+    spoil(&o);
+    try {
+      DynamicFilter filter(frames().camera, o, nullptr, false);
+      ADD_FAILURE() << key << ": accepted";
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_NO_THROW(DynamicFilter(frames().camera, DynamicFilterOptions{}, nullptr, false));
 }
 
 TEST(DynamicFilterSchedule, ADisabledFilterNeitherSegmentsNorRemovesFeatures) {
