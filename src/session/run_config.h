@@ -33,6 +33,7 @@ struct RunSwitches {
   std::string classes;             ///< class names file (empty: COCO)
   std::string dynamic_classes;     ///< comma-separated names that may move (empty: the default set)
   bool allow_missing_model = false;  ///< go on with the geometric checks when the model cannot be used
+  std::string base;                ///< camera-to-base file of `plslam calib base` (over calibration.camera_to_base)
 };
 
 /// What a session starts from.
@@ -43,7 +44,8 @@ struct RunConfig {
 };
 
 /// Applies `switches` in the order of `plslam run`: the map's saved configuration, then
-/// the YAML file, then the switches. `title` heads config_yaml. Throws ConfigError for a
+/// the YAML file, then the switches; then loads the camera-to-base file
+/// (calibration.camera_to_base) into options.dense.T_base_cam, the one place it is read. `title` heads config_yaml. Throws ConfigError for a
 /// bad combination (localize without map) or key, IoError for an unreadable file.
 RunConfig makeRunConfig(const RunSwitches& switches, const std::string& title);
 
