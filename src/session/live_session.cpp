@@ -69,9 +69,9 @@ void LiveSession::slamLoop() {
         keyframes_ += r.new_keyframe;
         out.keyframes = keyframes_;
         if (!mapFrame() && keyframes_ >= map_frame_keyframes_) fixMapFrame();
-        if (const auto frame = mapFrame()) {
+        if (const auto fixed = mapFrame()) {
           out.map_frame_fixed = true;
-          out.T_map_world = frame->T_map_world;
+          out.T_map_world = fixed->T_map_world;
         }
       }
       ++processed_;

@@ -17,7 +17,8 @@ namespace plslam {
 /// The whole content of a text file; IoError naming it when it cannot be read.
 std::string readTextFile(const std::string& path);
 
-/// Binds `options` into `table` and applies the YAML file `config_path` (none when empty).
+/// Binds `options` into `table` and applies the YAML file `config_path` (none when empty),
+/// then loads calibration.camera_to_base into options->dense.T_base_cam.
 void loadRunConfig(const std::string& config_path, SystemOptions* options, OptionTable* table);
 
 /// The switches of `plslam run` that shape the System (the same names, as the node's parameters).

@@ -194,7 +194,9 @@ TEST(LiveSession, ReportedMapFrameIsTheOneOfTheWrittenFiles) {
   ASSERT_TRUE(outcomes.back().map_frame_fixed);
   EXPECT_FALSE(outcomes.front().map_frame_fixed) << "fixed after 2 keyframes, not at the first frame";
   for (const FrameOutcome& o : outcomes)
-    if (o.map_frame_fixed) EXPECT_LT((o.T_map_world * outcomes.back().T_map_world.inverse()).log().norm(), 1e-12);
+    if (o.map_frame_fixed) {
+      EXPECT_LT((o.T_map_world * outcomes.back().T_map_world.inverse()).log().norm(), 1e-12);
+    }
 
   const std::string out = dir + "/out";
   session.writeOutputs(out, "", true);
