@@ -15,6 +15,7 @@ namespace {
 constexpr size_t kMaxSample = 30000;  // RANSAC on a strided subsample: the floor is large
 constexpr int kIterations = 500;
 constexpr int kMaxPlanes = 6;
+constexpr double kSameSurfaceM = 0.15;  // level planes closer than this are one surface (see floorAmong)
 
 struct Plane {
   Eigen::Vector3d n;  // unit, up side
@@ -89,21 +90,40 @@ FloorPlane gravityFloor(const std::vector<FusedPoint>& cloud, const Anchor& a, c
   return f;
 }
 
-// A strided subsample of the cloud (the floor is large), then its lowest
-// `fraction` along the prior up: the floor is the lowest surface, and in a scene seen from
-// the side (walls filling the view, the floor a thin band) it is under 5 % of all points
-// but a large share of the low ones.
-std::vector<Eigen::Vector3d> lowPoints(const std::vector<FusedPoint>& cloud, const Eigen::Vector3d& up,
-                                       double fraction) {
+// A strided subsample of the cloud: the floor is large.
+std::vector<Eigen::Vector3d> subsample(const std::vector<FusedPoint>& cloud) {
   const size_t step = std::max<size_t>(1, cloud.size() / kMaxSample);
   std::vector<Eigen::Vector3d> pts;
   for (size_t i = 0; i < cloud.size(); i += step) pts.push_back(cloud[i].p_w.cast<double>());
+  return pts;
+}
+
+// The lowest `fraction` of `pts` along the prior up: the floor is the lowest surface, and in
+// a scene seen from the side (walls filling the view, the floor a thin band) it is under 5 %
+// of all points but a large share of the low ones.
+std::vector<Eigen::Vector3d> lowest(std::vector<Eigen::Vector3d> pts, const Eigen::Vector3d& up, double fraction) {
   const size_t keep = std::max<size_t>(3, static_cast<size_t>(fraction * pts.size()));
   if (keep >= pts.size()) return pts;
   std::nth_element(pts.begin(), pts.begin() + (keep - 1), pts.end(),
                    [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return up.dot(a) < up.dot(b); });
   pts.resize(keep);
   return pts;
+}
+
+// The plane refitted on every point of `pts` near it, twice: the low points it was found in
+// hold only part of the floor when the prior up is tilted (the far floor looks lower than
+// the near floor), and a partial floor tilts the fit towards the walls' bottom rows.
+Plane refineOnAll(const Plane& plane, const std::vector<Eigen::Vector3d>& pts, const Eigen::Vector3d& up,
+                  double thr) {
+  Plane p = plane;
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<Eigen::Vector3d> in;
+    for (const auto& q : pts)
+      if (std::fabs(p.n.dot(q) - p.d) < thr) in.push_back(q);
+    if (in.size() < 3) return p;
+    p = fitPlane(in, up);
+  }
+  return p;
 }
 
 // Planes within the tilt limit of `up` holding at least floor_min_fraction of `pts`, each
@@ -144,6 +164,21 @@ std::vector<Plane> levelPlanes(const std::vector<Eigen::Vector3d>& pts, const Ei
   return level;
 }
 
+// The floor among the level planes: the lowest along the prior up (a table top lies above
+// the floor), but of planes within kSameSurfaceM of the lowest the one with the most points:
+// they are layers of one surface (a floor seen doubled by drift, a rug), and a thin layer
+// below the floor's bulk must not win.
+const Plane* floorAmong(const std::vector<Plane>& level, const Eigen::Vector3d& up) {
+  const auto height = [&](const Plane& p) { return p.d / p.n.dot(up); };
+  const Plane* lowest_plane = &level.front();
+  for (const Plane& p : level)
+    if (height(p) < height(*lowest_plane)) lowest_plane = &p;
+  const Plane* floor = lowest_plane;
+  for (const Plane& p : level)
+    if (height(p) < height(*lowest_plane) + kSameSurfaceM && p.inliers > floor->inliers) floor = &p;
+  return floor;
+}
+
 }  // namespace
 
 FloorPlane estimateFloor(const std::vector<FusedPoint>& cloud, const SE3& T_w_c0, const Eigen::Vector3d& up_c,
@@ -156,17 +191,16 @@ FloorPlane estimateFloor(const std::vector<FusedPoint>& cloud, const SE3& T_w_c0
   if (cloud.size() < 3) return gravityFloor(cloud, anchor, "gravity (no level plane found)");
 
   const Eigen::Vector3d up = anchor.up.normalized();
-  const std::vector<Plane> level = levelPlanes(lowPoints(cloud, up, o.floor_search_fraction), up, o);
+  const std::vector<Eigen::Vector3d> pts = subsample(cloud);
+  const std::vector<Plane> level = levelPlanes(lowest(pts, up, o.floor_search_fraction), up, o);
   if (level.empty()) return gravityFloor(cloud, anchor, "gravity (no level plane found)");
-  // The lowest level plane along the prior up: a table top lies above the floor.
-  const Plane* floor = &level.front();
-  for (const Plane& p : level)
-    if (p.d / p.n.dot(up) < floor->d / floor->n.dot(up)) floor = &p;
+  const Plane* floor = floorAmong(level, up);
+  const Plane refined = refineOnAll(*floor, pts, up, o.floor_inlier_m);
   FloorPlane f;
-  f.up_w = floor->n;
-  f.height0 = floor->d;
+  f.up_w = refined.n;
+  f.height0 = refined.d;
   f.method = "ransac";
-  f.inliers = floor->inliers;
+  f.inliers = refined.inliers;
   f.candidates = static_cast<int>(level.size());
   f.T_w_grid = gridFrame(f.up_w, f.height0, anchor);
   return f;

@@ -9,7 +9,7 @@
 //            within floor_max_tilt_deg of the first camera's up that hold at least
 //            floor_min_fraction of the points, the lowest along that up is the floor
 //            (a table top is higher, a wall is not level). Its normal is refined by least
-//            squares on its inliers. Without such a plane it falls back to gravity.
+//            squares on the inliers among all the points. Without such a plane it falls back to gravity.
 //   gravity  up is the first camera's up (the camera was held level at the start), the
 //            floor height the 2nd percentile of the points' heights along it.
 // With a camera-to-base transform (DenseOptions::T_base_cam) the prior up is the base's z
