@@ -71,13 +71,14 @@ std::string mapFrameToYaml(const MapFrame& f) {
   std::ostringstream s;
   s << "# plslam map frame: p_map = T_map_world * p_world.\n"
     << "# world: the SLAM world (the first keyframe's camera: x right, y down, z forward), frame of trajectory.txt.\n"
-    << "# map (REP-103/105): z up along the floor normal, x forward (the first camera's optical axis laid onto\n"
-    << "# the floor), y left, origin on the floor below the first camera. Every other world-frame output is in it.\n"
+    << "# map (REP-103/105): z up along the floor normal, y left; origin: base = x the robot base's forward at the\n"
+    << "# first keyframe laid onto the floor, origin on the floor below the base; origin: camera = x the first camera's\n"
+    << "# optical axis laid onto the floor, origin on the floor below it. Every other world-frame output is in it.\n"
     << "format: " << kFormat << "\nparent_frame: map\nchild_frame: world\n"
     << "translation: " << list({t.x(), t.y(), t.z()}) << "\n"
     << "rotation: " << list({q.x(), q.y(), q.z(), q.w()}) << "\n"
     << "camera_height_m: " << number(f.cameraHeight()) << "\nfloor_method: " << f.floor_method
-    << "\nfloor_source: " << f.floor_source << "\nfloor_points: " << f.floor_points << "\n";
+    << "\nfloor_source: " << f.floor_source << "\nfloor_points: " << f.floor_points << "\norigin: " << f.origin << "\n";
   return s.str();
 }
 
@@ -99,6 +100,7 @@ MapFrame parseMapFrameYaml(const std::string& text, const std::string& source) {
   f.floor_method = get("floor_method");
   f.floor_source = get("floor_source");
   f.floor_points = std::atoi(get("floor_points").c_str());
+  f.origin = get("origin").empty() ? "camera" : get("origin");  // files written before the key: camera
   return f;
 }
 

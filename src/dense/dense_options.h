@@ -3,7 +3,10 @@
 // OctoMaps, 2D occupancy grid). One struct; keys `dense.*` in a run configuration.
 #pragma once
 
+#include <optional>
 #include <string>
+
+#include "core/se3.h"
 
 namespace plslam {
 
@@ -33,12 +36,19 @@ struct DenseOptions {
   std::string floor = "ransac";       ///< floor plane: "ransac" (lowest large plane near level) or "gravity" (up of the first keyframe's image: -y, +y when fy < 0)
   double floor_max_tilt_deg = 30.0;   ///< ransac: candidate planes within this angle of the first camera's up (its image's top)
   double floor_inlier_m = 0.02;       ///< ransac: inlier distance to a plane (m)
-  double floor_min_fraction = 0.05;   ///< ransac: a plane needs this fraction of the cloud's points to be a floor candidate
+  double floor_search_fraction = 0.3; ///< ransac: the floor is searched among this lowest fraction of the points along the prior up (1: all)
+  double floor_min_fraction = 0.05;   ///< ransac: a plane needs this fraction of the searched points to be a floor candidate
   double grid_min_height_m = 0.10;    ///< the grid's height band above the floor, lower end (m)
   double grid_max_height_m = 2.0;     ///< upper end (m): obstacles between the two block a robot
   double grid_resolution_m = 0.05;    ///< cell size of the 2D grid (m)
   double grid_occupied_thresh = 0.65; ///< written to the map YAML (map_server: occupied above)
   double grid_free_thresh = 0.196;    ///< written to the map YAML (map_server: free below)
+
+  // --- the robot (not a key: loaded from calibration.camera_to_base by session/run_config) ---
+  /// p_base = T_base_cam * p_camera. When set, the map frame's origin is on the floor below
+  /// the base at the first keyframe, x its forward direction, and the floor search takes
+  /// the base's z as its prior up (dense/floor_plane.h).
+  std::optional<SE3> T_base_cam;
 };
 
 /// Throws ConfigError naming the field when an option is out of range.

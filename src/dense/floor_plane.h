@@ -2,17 +2,24 @@
 // camera (z forward, y down, or y up when fy < 0), so "up" must be found, starting from the
 // first camera's up: the top of its image, up_c = PinholeCamera::imageUp() (-y, or +y when
 // fy < 0 as in ICL-NUIM):
-//   ransac   planes are fitted to the fused cloud (RANSAC, deterministic); among those
+//   ransac   planes are fitted to the lowest floor_search_fraction of the fused cloud along
+//            the prior up (the floor is the lowest surface: seen from the side it is a thin
+//            band, under 5 % of the cloud, but a large share of its low points) by RANSAC
+//            (deterministic); among those
 //            within floor_max_tilt_deg of the first camera's up that hold at least
 //            floor_min_fraction of the points, the lowest along that up is the floor
 //            (a table top is higher, a wall is not level). Its normal is refined by least
-//            squares on its inliers. Without such a plane it falls back to gravity.
+//            squares on the inliers among all the points. Without such a plane it falls back to gravity.
 //   gravity  up is the first camera's up (the camera was held level at the start), the
 //            floor height the 2nd percentile of the points' heights along it.
-// The floor frame (T_w_grid) is the map frame of core/map_frame.h (REP-103): z up along the
-// floor normal, x the first camera's optical axis laid onto the floor (the top of its image
-// when it looks straight down), y = z x x (left), origin on the floor below the first
-// camera's centre. The grid, the clouds and the octomaps are all in it.
+// With a camera-to-base transform (DenseOptions::T_base_cam) the prior up is the base's z
+// at the first keyframe instead of the image's top.
+// The floor frame (T_w_grid) is the map frame of core/map_frame.h (REP-103/105): z up along
+// the floor normal, y = z x x (left), and with a camera-to-base transform x the base's
+// forward direction laid onto the floor, origin on the floor below the base at the first
+// keyframe; without one x the first camera's optical axis laid onto the floor (the top of
+// its image when it looks straight down), origin on the floor below the first camera's
+// centre. The grid, the clouds and the octomaps are all in it.
 //
 // Stateless and thread-safe.
 #pragma once

@@ -27,7 +27,11 @@ SparseMapSnapshot sparseMapSnapshot(const Map& map) {
 LiveSession::LiveSession(const PinholeCamera& camera, RunConfig config, SessionOptions options)
     : system_(camera, config.options, config.map ? std::move(config.map->map) : Map()),
       config_yaml_(std::move(config.config_yaml)),
-      queue_(options.queue, options.drop_frames ? QueuePolicy::kDropOldest : QueuePolicy::kBlock) {}
+      queue_(options.queue, options.drop_frames ? QueuePolicy::kDropOldest : QueuePolicy::kBlock),
+      map_frame_keyframes_(options.map_frame_keyframes) {
+  // A saved map keeps its own frame, so that its sessions share one map frame.
+  if (config.map && config.map->frame) map_frame_ = config.map->frame;
+}
 
 LiveSession::~LiveSession() {
   // An owner that did not stop (an exception on its side): end the thread, keep quiet.
@@ -64,6 +68,11 @@ void LiveSession::slamLoop() {
         out.T_w_c = r.T_w_c;
         keyframes_ += r.new_keyframe;
         out.keyframes = keyframes_;
+        if (!mapFrame() && keyframes_ >= map_frame_keyframes_) fixMapFrame();
+        if (const auto fixed = mapFrame()) {
+          out.map_frame_fixed = true;
+          out.T_map_world = fixed->T_map_world;
+        }
       }
       ++processed_;
       tracked_ += out.tracked;
@@ -76,9 +85,25 @@ void LiveSession::slamLoop() {
   }
 }
 
+std::optional<MapFrame> LiveSession::mapFrame() const {
+  std::lock_guard<std::mutex> lock(frame_mutex_);
+  return map_frame_;
+}
+
+MapFrame LiveSession::fixMapFrame() {
+  if (const auto frame = mapFrame()) return *frame;
+  const MapFrame frame = sparseMapFrame(system_);
+  kLog.info(str("map frame fixed from the map points (", frame.floor_method, ", origin below the ", frame.origin,
+                "): first camera ", frame.cameraHeight(), " m above the floor"));
+  std::lock_guard<std::mutex> lock(frame_mutex_);
+  map_frame_ = frame;
+  return frame;
+}
+
 void LiveSession::save(const std::string& dir, const std::string& stats_extra) {
   std::lock_guard<std::mutex> lock(feed_mutex_);
-  writeRunOutputs(dir, system_, config_yaml_, stats_extra);
+  const MapFrame frame = fixMapFrame();  // what is saved and what is published from now on agree
+  writeRunOutputs(dir, system_, config_yaml_, stats_extra, "", &frame);
 }
 
 SessionCounts LiveSession::counts() const {
@@ -106,12 +131,14 @@ void LiveSession::writeOutputs(const std::string& dir, const std::string& stats_
   if (!stopped_) throw Error("LiveSession::writeOutputs before stop()");
   // The dense products first: the floor of their cloud gives the map frame of every output,
   // as in plslam run (without them the run outputs find the floor in the sparse map).
+  // A fixed map frame (the one published) is kept for every output.
   const DenseOptions& dopt = system_.options().dense;
+  const std::optional<MapFrame> fixed = mapFrame();
   if (!dense || !dopt.enabled) {
-    writeRunOutputs(dir, system_, config_yaml_, stats_extra);
+    writeRunOutputs(dir, system_, config_yaml_, stats_extra, "", fixed ? &*fixed : nullptr);
     return;
   }
-  const DenseProducts products = buildDenseProducts(system_.map(), system_.camera(), dopt);
+  const DenseProducts products = buildDenseProducts(system_.map(), system_.camera(), dopt, {}, {}, fixed ? &*fixed : nullptr);
   writeDenseProducts(dir, products, {}, dopt);
   writeRunOutputs(dir, system_, config_yaml_, stats_extra, "", &products.frame);
 }

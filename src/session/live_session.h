@@ -9,7 +9,13 @@
 // tracking works on a recent frame; with drop_frames = false push() waits instead, which
 // with a sequential System makes a session reproducible from the same frames.
 //
-// Thread safety: push(), save(), sparseMap() and counts() may be called from any thread,
+// The map frame (core/map_frame.h) is fixed once, from the floor of the map points after
+// the first map_frame_keyframes keyframes (or a saved map's own frame, or at the first
+// save()), and every output written afterwards (save(), writeOutputs(): map_frame.yaml,
+// trajectory_map.txt, trajectory_base.txt, the dense products) is in it, so that a front
+// end publishing poses in it (FrameOutcome::T_map_world) and the files agree.
+//
+// Thread safety: push(), save(), sparseMap(), mapFrame() and counts() may be called from any thread,
 // concurrently with the SLAM thread; start(), stop() and writeOutputs() from one owner
 // thread. The listener runs on the SLAM thread: keep it short (publish, do not compute).
 #pragma once
@@ -18,6 +24,7 @@
 #include <atomic>
 #include <functional>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <utility>
@@ -25,6 +32,7 @@
 
 #include "core/bounded_queue.h"
 #include "core/frame.h"
+#include "core/map_frame.h"
 #include "session/run_config.h"
 #include "system/system.h"
 
@@ -33,6 +41,7 @@ namespace plslam {
 struct SessionOptions {
   int queue = 2;            ///< frames waiting for tracking; beyond it the oldest is dropped
   bool drop_frames = true;  ///< false: push() waits for tracking instead of dropping
+  int map_frame_keyframes = 5;  ///< the map frame is fixed from the map points after this many keyframes
 };
 
 /// One tracked (or not) frame, as the listener sees it.
@@ -44,6 +53,8 @@ struct FrameOutcome {
   SE3 T_w_c;                 ///< camera pose in plslam's world (the first camera's optical frame); valid when tracked
   int keyframes = 0;         ///< keyframes made in this session so far
   double tracking_ms = 0;    ///< System::feed time of this frame
+  bool map_frame_fixed = false;  ///< T_map_world is the session's fixed map frame (else none yet)
+  SE3 T_map_world;           ///< the map frame of the outputs, when map_frame_fixed
 };
 
 struct SessionCounts {
@@ -81,6 +92,8 @@ class LiveSession {
   /// Throws what the writing throws.
   void save(const std::string& dir, const std::string& stats_extra = "");
   SparseMapSnapshot sparseMap() const { return sparseMapSnapshot(system_.map()); }
+  /// The fixed map frame of the outputs; empty until it is fixed.
+  std::optional<MapFrame> mapFrame() const;
   SessionCounts counts() const;
   /// Ends the stream: the waiting frames are tracked, then the System finishes. Rethrows a
   /// failure of the SLAM thread. Calling it again does nothing.
@@ -92,6 +105,9 @@ class LiveSession {
 
  private:
   void slamLoop();
+  /// Fixes the map frame from the map points when it is not fixed yet. Call between frames
+  /// (feed_mutex_ held). Returns it.
+  MapFrame fixMapFrame();
 
   System system_;
   std::string config_yaml_;
@@ -102,6 +118,9 @@ class LiveSession {
   std::exception_ptr failure_;
   std::atomic<int> received_{0}, processed_{0}, tracked_{0};
   int keyframes_ = 0;
+  int map_frame_keyframes_;
+  mutable std::mutex frame_mutex_;
+  std::optional<MapFrame> map_frame_;  // under frame_mutex_
   bool started_ = false, stopped_ = false;
 };
 

@@ -2,18 +2,22 @@
 // publishes poses to a robot (the ROS node today).
 //
 // plslam's world `w` is the first camera's optical frame (x right, y down, z forward).
-// A robot's `map` has z up. We define map as the pose the robot's base had at the first
-// frame: T_map_world = T_base_cam, so
+// The robot's `map` is the map frame of the files (core/map_frame.h, map_frame.yaml): z up
+// along the floor normal, origin on the floor below the base (below the camera without a
+// camera-to-base transform) at the first keyframe, x its forward direction. One definition,
+// so that what a robot sees in TF and what it loads from the files agree:
 //
-//   T_map_cam(t)  = T_base_cam * T_w_c(t)
-//   T_map_base(t) = T_base_cam * T_w_c(t) * T_base_cam^-1
+//   T_map_cam(t)  = T_map_world * T_w_c(t)
+//   T_map_base(t) = T_map_world * T_w_c(t) * T_base_cam^-1
 //
-// map's x is then the base's forward direction at start and its origin the base's origin
-// (on the floor for base_footprint). T_base_cam comes from `plslam calib base`
-// (calibration/base_transform.h); without it, opticalToBase() below: the camera at the
-// base's origin looking along its x (x forward = optical z, y left = -optical x,
-// z up = -optical y), which is right for a level camera and puts map's origin at the
-// camera, not on the floor.
+// The floor is only known once there are map points, so a live session fixes T_map_world
+// after its first keyframes (LiveSession::mapFrame) and writes every output in it. Until
+// then a front end uses provisionalMapFrame(): the base at the first frame,
+// T_map_world = T_base_cam, which is the same frame when the mounting is calibrated and the
+// base stands level on the floor (and is at the camera, not on the floor, without one).
+// T_base_cam comes from `plslam calib base` (calibration/base_transform.h); without it,
+// opticalToBase(): the camera at the base's origin looking along its x (x forward =
+// optical z, y left = -optical x, z up = -optical y).
 #pragma once
 
 #include "core/se3.h"
@@ -28,9 +32,10 @@ class RobotFrames {
  public:
   explicit RobotFrames(const SE3& T_base_cam = opticalToBase()) : T_base_cam_(T_base_cam) {}
   const SE3& T_base_cam() const { return T_base_cam_; }
-  SE3 T_map_world() const { return T_base_cam_; }
-  SE3 T_map_cam(const SE3& T_w_c) const { return T_base_cam_ * T_w_c; }
-  SE3 T_map_base(const SE3& T_w_c) const { return T_base_cam_ * T_w_c * T_base_cam_.inverse(); }
+  /// The map frame before the session has fixed one (see above).
+  SE3 provisionalMapFrame() const { return T_base_cam_; }
+  SE3 T_map_cam(const SE3& T_map_world, const SE3& T_w_c) const { return T_map_world * T_w_c; }
+  SE3 T_map_base(const SE3& T_map_world, const SE3& T_w_c) const { return T_map_world * T_w_c * T_base_cam_.inverse(); }
 
  private:
   SE3 T_base_cam_;

@@ -3,6 +3,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "calibration/base_transform.h"
 #include "core/error.h"
 
 namespace plslam {
@@ -15,9 +16,22 @@ std::string readTextFile(const std::string& path) {
   return ss.str();
 }
 
+namespace {
+
+// The robot's mounting, read once here for every front end: the map frame (dense/floor_plane.h)
+// and trajectory_base.txt (system/run_outputs.h) take it from the options.
+void loadCalibration(SystemOptions* options) {
+  options->dense.T_base_cam.reset();
+  if (!options->camera_to_base.empty()) options->dense.T_base_cam = calib::loadCameraToBase(options->camera_to_base);
+  validateDepthCorrection(options->depth_correction);
+}
+
+}  // namespace
+
 void loadRunConfig(const std::string& config_path, SystemOptions* options, OptionTable* table) {
   bindOptions(table, options);
   if (!config_path.empty()) table->apply(parseYamlSubset(readTextFile(config_path), config_path), config_path);
+  loadCalibration(options);  // plslam bench and eval masks have no other switches
 }
 
 namespace {
@@ -43,7 +57,9 @@ void applySwitches(const RunSwitches& s, SystemOptions* options) {
     options->segmenter.dynamic_classes = names;
   }
   options->segmenter.allow_missing_model = s.allow_missing_model;
+  if (!s.base.empty()) options->camera_to_base = s.base;
 }
+
 
 }  // namespace
 
@@ -64,6 +80,7 @@ RunConfig makeRunConfig(const RunSwitches& switches, const std::string& title) {
     loadRunConfig(switches.config, &config.options, &table);
   }
   applySwitches(switches, &config.options);
+  loadCalibration(&config.options);
   config.config_yaml = table.toYaml(title);
   return config;
 }

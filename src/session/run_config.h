@@ -17,7 +17,8 @@ namespace plslam {
 /// The whole content of a text file; IoError naming it when it cannot be read.
 std::string readTextFile(const std::string& path);
 
-/// Binds `options` into `table` and applies the YAML file `config_path` (none when empty).
+/// Binds `options` into `table` and applies the YAML file `config_path` (none when empty),
+/// then loads calibration.camera_to_base into options->dense.T_base_cam.
 void loadRunConfig(const std::string& config_path, SystemOptions* options, OptionTable* table);
 
 /// The switches of `plslam run` that shape the System (the same names, as the node's parameters).
@@ -33,6 +34,7 @@ struct RunSwitches {
   std::string classes;             ///< class names file (empty: COCO)
   std::string dynamic_classes;     ///< comma-separated names that may move (empty: the default set)
   bool allow_missing_model = false;  ///< go on with the geometric checks when the model cannot be used
+  std::string base;                ///< camera-to-base file of `plslam calib base` (over calibration.camera_to_base)
 };
 
 /// What a session starts from.
@@ -43,7 +45,8 @@ struct RunConfig {
 };
 
 /// Applies `switches` in the order of `plslam run`: the map's saved configuration, then
-/// the YAML file, then the switches. `title` heads config_yaml. Throws ConfigError for a
+/// the YAML file, then the switches; then loads the camera-to-base file
+/// (calibration.camera_to_base) into options.dense.T_base_cam, the one place it is read. `title` heads config_yaml. Throws ConfigError for a
 /// bad combination (localize without map) or key, IoError for an unreadable file.
 RunConfig makeRunConfig(const RunSwitches& switches, const std::string& title);
 

@@ -123,6 +123,13 @@ std::string sparseMapToPly(const Map& map, const SE3& T_out_w) {
   return os.str();
 }
 
+Trajectory baseTrajectory(const Trajectory& trajectory, const SE3& T_map_world, const SE3& T_base_cam) {
+  const SE3 T_cam_base = T_base_cam.inverse();
+  Trajectory out = trajectory;
+  for (StampedPose& p : out) p.T_w_c = T_map_world * p.T_w_c * T_cam_base;
+  return out;
+}
+
 MapFrame sparseMapFrame(const System& system) {
   std::lock_guard<std::mutex> lock(system.map().mutex());
   return estimateMapFrame(system.map(), system.camera(), {}, system.options().dense);
@@ -140,6 +147,9 @@ void writeRunOutputs(const std::string& dir, const System& system, const std::st
   writeTumTrajectory(dir + "/trajectory.txt", trajectory, "plslam trajectory: every tracked frame, T_w_c");
   writeTumTrajectory(dir + "/" + kTrajectoryMap, in_map,
                      "plslam trajectory in the map frame (map_frame.yaml): every tracked frame, T_map_c");
+  if (const auto& T_base_cam = system.options().dense.T_base_cam)
+    writeTumTrajectory(dir + "/" + kTrajectoryBase, baseTrajectory(trajectory, map_frame.T_map_world, *T_base_cam),
+                       "plslam base trajectory in the map frame (map_frame.yaml): every tracked frame, T_map_base");
   writeTumTrajectory(dir + "/keyframes.txt", system.keyframeTrajectory(), "plslam keyframes, T_w_c");
   writeFileAtomically(dir + "/" + kMapFrameYaml, mapFrameToYaml(map_frame));
   writeFileAtomically(dir + "/sparse_map.ply", sparseMapToPly(system.map(), map_frame.T_map_world));

@@ -2,6 +2,8 @@
 //   trajectory.txt   TUM format, every tracked frame, final poses (T_w_c, SLAM world = the
 //                    first keyframe's camera: the TUM convention, for evaluation)
 //   trajectory_map.txt  the same camera poses in the map frame (T_map_c)
+//   trajectory_base.txt with a camera-to-base transform (calibration.camera_to_base): the
+//                    robot base's poses in the map frame, T_map_base = T_map_c * T_base_cam^-1
 //   keyframes.txt    TUM format, keyframe poses (T_w_c)
 //   map_frame.yaml   T_map_world and how it was found (core/map_frame.h)
 //   sparse_map.ply   map frame, ASCII PLY: map points (grey) and 3D line endpoints (red) as vertices,
@@ -32,6 +34,11 @@ std::string framesToCsv(const std::vector<FrameRecord>& records);
 std::string sparseMapToPly(const Map& map, const SE3& T_out_w = SE3());
 
 inline constexpr char kTrajectoryMap[] = "trajectory_map.txt";
+inline constexpr char kTrajectoryBase[] = "trajectory_base.txt";
+
+/// The camera poses T_w_c of `trajectory` as poses of the base in the map frame:
+/// T_map_base = T_map_world * T_w_c * T_base_cam^-1.
+Trajectory baseTrajectory(const Trajectory& trajectory, const SE3& T_map_world, const SE3& T_base_cam);
 
 /// The map frame from the floor of the sparse map points (for runs without dense clouds).
 MapFrame sparseMapFrame(const System& system);

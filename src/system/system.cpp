@@ -115,6 +115,7 @@ System::System(PinholeCamera camera, SystemOptions options, Map map)
   if (options_.refine_after_keyframes < 0 || options_.refine_after_frames < 0)
     throw ConfigError(str("system.refine_after_keyframes and system.refine_after_frames must be >= 0 (got ",
                           options_.refine_after_keyframes, " and ", options_.refine_after_frames, ")"));
+  validateDepthCorrection(options_.depth_correction);
   options_.tracker.use_lines = options_.use_lines;
   options_.mapper.use_lines = options_.use_lines;
   options_.features.use_lines = options_.use_lines;
@@ -164,7 +165,10 @@ void System::start() {
     });
 }
 
-TrackingResult System::feed(const RgbdFrame& frame, const cv::Mat& mask) {
+TrackingResult System::feed(const RgbdFrame& input, const cv::Mat& mask) {
+  // The depth correction first, so that tracking, mapping and the dense clouds all see it.
+  RgbdFrame frame = input;
+  frame.depth_m = correctDepth(input.depth_m, options_.depth_correction);
   if (!pipeline_->started) start();
   if (pipeline_->finished) throw Error("System::feed after finish()");
   pipeline_->rethrowFailure();

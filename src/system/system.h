@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "camera/depth_correction.h"
 #include "camera/pinhole_camera.h"
 #include "core/frame.h"
 #include "core/map.h"
@@ -60,6 +61,11 @@ struct SystemOptions {
   bool refine_frames = true;
   int refine_after_keyframes = 8;
   int refine_after_frames = 300;
+  /// The sensor's calibration (`plslam calib base`, `plslam calib depth`), keys calibration.*:
+  /// the camera-to-base file (loaded into dense.T_base_cam by session/run_config; the map
+  /// frame's origin is then below the base) and the depth correction applied by feed().
+  std::string camera_to_base;
+  DepthCorrection depth_correction;
 };
 
 /// Binds every field of `options` that a configuration file may set.

@@ -124,12 +124,21 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
   t->bind("dense.floor", &dn.floor, "floor plane for the grid: ransac (lowest level plane) or gravity (the first camera's image up)");
   t->bind("dense.floor_max_tilt_deg", &dn.floor_max_tilt_deg, "ransac floor: max angle to the first camera's up (deg)");
   t->bind("dense.floor_inlier_m", &dn.floor_inlier_m, "ransac floor: inlier distance (m)");
-  t->bind("dense.floor_min_fraction", &dn.floor_min_fraction, "ransac floor: fraction of the points a floor needs");
+  t->bind("dense.floor_search_fraction", &dn.floor_search_fraction,
+          "ransac floor: searched among this lowest fraction of the points along the prior up (1: all)");
+  t->bind("dense.floor_min_fraction", &dn.floor_min_fraction, "ransac floor: fraction of the searched points a floor needs");
   t->bind("dense.grid_min_height_m", &dn.grid_min_height_m, "2D grid: lower end of the obstacle band above the floor (m)");
   t->bind("dense.grid_max_height_m", &dn.grid_max_height_m, "2D grid: upper end of the obstacle band above the floor (m)");
   t->bind("dense.grid_resolution_m", &dn.grid_resolution_m, "2D grid cell size (m)");
   t->bind("dense.grid_occupied_thresh", &dn.grid_occupied_thresh, "map YAML occupied_thresh");
   t->bind("dense.grid_free_thresh", &dn.grid_free_thresh, "map YAML free_thresh");
+
+  t->bind("calibration.camera_to_base", &o->camera_to_base,
+          "camera-to-base file of plslam calib base: the map frame's origin is then on the floor below the base, x its "
+          "forward, and trajectory_base.txt is written (empty: none)");
+  t->bind("calibration.depth_scale", &o->depth_correction.scale,
+          "depth correction of plslam calib depth: measured = scale * true + offset (1: none)");
+  t->bind("calibration.depth_offset_m", &o->depth_correction.offset_m, "... and its offset (m, 0: none)");
 
   LocalMapperOptions& m = o->mapper;
   t->bind("mapper.local_ba", &m.local_ba, "run the local bundle adjustment");

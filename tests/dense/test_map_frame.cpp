@@ -10,6 +10,7 @@
 #include "core/map_frame.h"
 #include "dense/dense_products.h"
 #include "dense_scene.h"
+#include "system/run_outputs.h"
 #include "support/test_support.h"
 
 using namespace plslam;
@@ -91,4 +92,58 @@ TEST(MapFrame, GivenFrameIsUsedAndTheGridIsInIt) {
   ASSERT_GT(found.grid.width, 0);
   EXPECT_LT((found.grid.T_w_grid * found.frame.T_map_world).angle(), 1e-9);
   EXPECT_LT((found.grid.T_w_grid * found.frame.T_map_world).translation().norm(), 1e-9);
+}
+
+// A known mounting (calibration.camera_to_base): the map frame's origin is on the floor
+// below the base at the first keyframe and x its forward direction, so the base poses
+// (trajectory_base.txt: T_map_base = T_map_world * T_w_c * T_base_cam^-1) are the true
+// base poses relative to the first base's footprint. The true base here stands level on the
+// floor 0.25 m behind and 0.05 m right of the camera's footprint, turned 20 deg left of the
+// camera's heading (the camera looks 20 deg to the right of forward): its x differs from the
+// camera's optical axis laid on the floor, so a frame anchored to the camera fails this test.
+TEST(MapFrame, KnownMountingPutsTheOriginBelowTheBaseAndMovesTheBaseTrajectoryAsTrue) {
+  test::GtMapOptions o;
+  o.frames = 90;
+  o.every = 10;
+  o.first_camera_world = true;
+  const test::GtMap g = test::buildGtMap(o);
+  const SE3 T_scene_c0 = g.T_scene_world;
+  const SE3 T_scene_footprint_c = test::trueMapFrame(T_scene_c0);  // below the camera, x its heading
+  const double yaw = 20.0 * M_PI / 180.0;
+  const SE3 T_scene_b0 = T_scene_footprint_c * SE3(Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ())),
+                                                   Eigen::Vector3d(-0.25, -0.05, 0.0));
+  const SE3 T_base_cam = T_scene_b0.inverse() * T_scene_c0;
+  DenseOptions dense = o.dense;
+  dense.T_base_cam = T_base_cam;
+  const DenseProducts p = buildDenseProducts(g.map, g.scene.camera(), dense);
+  EXPECT_EQ(p.frame.origin, "base");
+  EXPECT_EQ(p.frame.floor_method, "ransac");
+
+  // The map frame is the first base's pose: T_map_world = T_scene_b0^-1 * T_scene_world.
+  const SE3 T_map_world_true = T_scene_b0.inverse() * g.T_scene_world;
+  const SE3 error = p.frame.T_map_world * T_map_world_true.inverse();
+  std::printf("known mounting: map frame error %.4f deg, %.4f m\n", error.angle() * 180 / M_PI,
+              error.translation().norm());
+  EXPECT_LT(error.angle() * 180 / M_PI, 0.3);
+  EXPECT_LT((p.frame.T_map_world.translation() - T_map_world_true.translation()).norm(), 0.01);
+
+  // The base trajectory of the keyframes against the true base poses.
+  Trajectory camera;
+  for (const auto& [id, kf] : g.map.keyframes()) camera.push_back({kf.t_ns, kf.T_w_c});
+  const Trajectory base = baseTrajectory(camera, p.frame.T_map_world, T_base_cam);
+  ASSERT_EQ(base.size(), camera.size());
+  ASSERT_GE(base.size(), 5u);
+  double worst_m = 0, worst_deg = 0;
+  for (size_t i = 0; i < base.size(); ++i) {
+    const SE3 T_scene_c = g.T_scene_world * camera[i].T_w_c;
+    const SE3 truth = T_scene_b0.inverse() * T_scene_c * T_base_cam.inverse();
+    worst_m = std::max(worst_m, (base[i].T_w_c.translation() - truth.translation()).norm());
+    worst_deg = std::max(worst_deg, (base[i].T_w_c.inverse() * truth).angle() * 180 / M_PI);
+  }
+  std::printf("known mounting: %zu base poses, worst error %.4f m, %.4f deg\n", base.size(), worst_m, worst_deg);
+  EXPECT_LT(worst_m, 0.02);
+  EXPECT_LT(worst_deg, 0.3);
+  // At the first keyframe the base is at the origin, facing x.
+  EXPECT_LT(base.front().T_w_c.translation().norm(), 0.01);
+  EXPECT_LT(base.front().T_w_c.angle() * 180 / M_PI, 0.3);
 }

@@ -21,6 +21,7 @@
 #include <cstdlib>
 #include <sstream>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -28,6 +29,7 @@
 #include <vector>
 
 #include "camera/camera_file.h"
+#include "core/map_frame.h"
 #include "eval/trajectory_eval.h"
 #include "io/dataset.h"
 #include "io/trajectory_file.h"
@@ -242,6 +244,50 @@ TEST(RosNode, WithAnOdometryFramePublishesMapToOdom) {
   EXPECT_NEAR(map_base.transform.translation.y, base.pose.position.y, 1e-6);
   EXPECT_NEAR(map_base.transform.translation.z, base.pose.position.z, 1e-6);
   EXPECT_EQ(stopNode(node), 0);
+}
+
+// One map frame for TF and the files: with a camera-to-base transform, the base pose the
+// node publishes (map -> base_footprint) at the last frame is the one trajectory_base.txt
+// holds for it in map_frame.yaml's frame (up to the refinement of poses after tracking).
+// The mounting puts the base 0.20 m below the camera, which in the scene stands about 1.5 m
+// above the floor: in the provisional frame (the base at the first frame) the base would be
+// at z = 0, in the files' frame it is 1.3 m above the floor.
+TEST(RosNode, TfMapIsTheMapFrameOfTheFiles) {
+  test::RosMaster master;
+  ASSERT_TRUE(master.ok()) << master.why();
+  const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, 90);
+  const std::string scratch = test::scratchDir("rosnode_frame");
+  std::ofstream(scratch + "/base.yaml") << "format: plslam_camera_to_base 1\nparent_frame: base\nchild_frame: camera\n"
+                                           "translation: [0.10, 0, 0.20]\nrotation: [-0.5, 0.5, -0.5, 0.5]\n";
+  const pid_t node = startNode(scratch + "/node", {"_camera_to_base:=" + scratch + "/base.yaml", "_no_dense:=true"});
+  ASSERT_GT(node, 0);
+  CameraPlayer player;
+  player.play(folder, 90);
+  ASSERT_TRUE(player.tf_buffer.canTransform("map", "base_footprint", ros::Time(0), ros::Duration(1.0)));
+  geometry_msgs::PoseStamped last;
+  {
+    std::lock_guard<std::mutex> lock(player.mutex);
+    last = player.last_base;
+  }
+  const auto tf = player.tf_buffer.lookupTransform("map", "base_footprint", last.header.stamp);
+  EXPECT_NEAR(tf.transform.translation.z, last.pose.position.z, 1e-6) << "TF and the base pose topic agree";
+  EXPECT_EQ(stopNode(node), 0);
+
+  const MapFrame frame = parseMapFrameYaml(test::readFile(scratch + "/node/map_frame.yaml"), "map_frame.yaml");
+  EXPECT_EQ(frame.origin, "base");
+  const Trajectory base = readTumTrajectory(scratch + "/node/trajectory_base.txt");
+  const TimeNs stamp = ros1::toNs(last.header.stamp);
+  const auto it = std::find_if(base.begin(), base.end(), [&](const StampedPose& p) { return std::llabs(p.t_ns - stamp) < 1000; });
+  ASSERT_NE(it, base.end()) << "the last published pose's stamp is in trajectory_base.txt";
+  const Eigen::Vector3d published(last.pose.position.x, last.pose.position.y, last.pose.position.z);
+  const Eigen::Quaterniond q(last.pose.orientation.w, last.pose.orientation.x, last.pose.orientation.y,
+                             last.pose.orientation.z);
+  const SE3 published_pose(q, published);
+  std::printf("[figures] node TF base pose against trajectory_base.txt: %.4f m, %.4f deg; base %.3f m above the floor\n",
+              (published - it->T_w_c.translation()).norm(), (published_pose.inverse() * it->T_w_c).angle() * 180 / M_PI,
+              published.z());
+  EXPECT_LT((published - it->T_w_c.translation()).norm(), 0.02);
+  EXPECT_LT((published_pose.inverse() * it->T_w_c).angle() * 180 / M_PI, 1.0);
 }
 
 TEST(RosNode, RealSequenceAteNextToPlslamRun) {

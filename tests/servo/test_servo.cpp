@@ -3,6 +3,9 @@
 // command within the Burger's limits; the AprilTag servo; the velocity sinks.
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -203,4 +206,23 @@ TEST(ServoCli, SimulatedGoalConvergesAndTheRealRobotPathSaysWhatIsMissing) {
   r = test::runPlslam("servo --goal 1,0.5,90");
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("--simulate"), std::string::npos) << r.output;
+}
+
+// plslam servo --base: the measured mounting replaces the placeholder. A camera 0.30 m ahead
+// of the wheel axis (the placeholder: 0.10 m) stops the base 0.20 m farther from the tag.
+TEST(ServoCli, BaseFileMountingMovesWhereTheBaseStops) {
+  const std::string dir = test::scratchDir("servo_base");
+  std::ofstream(dir + "/base.yaml") << "format: plslam_camera_to_base 1\nparent_frame: base\nchild_frame: camera\n"
+                                       "translation: [0.30, 0, 0.15]\nrotation: [-0.5, 0.5, -0.5, 0.5]\n";
+  auto finalX = [](const std::string& output) {
+    const size_t at = output.find("final base pose ");
+    return at == std::string::npos ? -1.0 : std::atof(output.c_str() + at + 16);
+  };
+  const std::string tag = "servo --simulate --tag 2,0 --standoff 0.5 --sink udp:127.0.0.1:9";
+  const auto placeholder = test::runPlslam(tag);
+  ASSERT_EQ(placeholder.status, 0) << placeholder.output;
+  const auto measured = test::runPlslam(tag + " --base " + dir + "/base.yaml");
+  ASSERT_EQ(measured.status, 0) << measured.output;
+  EXPECT_NEAR(finalX(placeholder.output), 2.0 - 0.5 - 0.10, 0.02) << placeholder.output;
+  EXPECT_NEAR(finalX(measured.output), 2.0 - 0.5 - 0.30, 0.02) << measured.output;
 }

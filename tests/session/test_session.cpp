@@ -3,9 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <thread>
 
+#include "calibration/base_transform.h"
 #include "camera/camera_file.h"
+#include "core/map_frame.h"
 #include "core/error.h"
 #include "io/dataset.h"
 #include "io/trajectory_file.h"
@@ -25,11 +28,12 @@ TEST(RobotFrames, OpticalAxesBecomeForwardLeftUp) {
   // At the first frame the base is at map's origin, whatever T_base_cam is.
   const SE3 mounted(Eigen::Quaterniond(0.5, -0.5, 0.5, -0.5), Eigen::Vector3d(0.09, 0.01, 0.18));
   const RobotFrames robot(mounted);
-  EXPECT_TRUE(robot.T_map_base(SE3()).translation().isZero(1e-12));
+  const SE3 map = robot.provisionalMapFrame();
+  EXPECT_TRUE(robot.T_map_base(map, SE3()).translation().isZero(1e-12));
   // The camera moving 1 m along its optical axis moves the base 1 m forward in map.
   const SE3 T_w_c(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0, 0, 1));
-  EXPECT_TRUE(robot.T_map_base(T_w_c).translation().isApprox(mounted * Eigen::Vector3d(0, 0, 1) - mounted.translation()));
-  EXPECT_TRUE(robot.T_map_cam(T_w_c).translation().isApprox(mounted * Eigen::Vector3d(0, 0, 1)));
+  EXPECT_TRUE(robot.T_map_base(map, T_w_c).translation().isApprox(mounted * Eigen::Vector3d(0, 0, 1) - mounted.translation()));
+  EXPECT_TRUE(robot.T_map_cam(map, T_w_c).translation().isApprox(mounted * Eigen::Vector3d(0, 0, 1)));
 }
 
 TEST(RunConfig, SwitchesOverTheFileAndRefusedCombinations) {
@@ -89,4 +93,120 @@ TEST(LiveSession, PushedFramesWithoutDropsTrackLikeTheSystem) {
   session.writeOutputs(out, "", false);
   EXPECT_EQ(readTumTrajectory(out + "/trajectory.txt").size(), a.size());
   EXPECT_TRUE(std::filesystem::exists(out + "/map.plmap"));
+}
+
+namespace {
+
+// The frames of the synthetic static sequence, depth as a sensor reading measured = scale * true.
+std::vector<RgbdFrame> scaledDepthFrames(const std::string& folder, const PinholeCamera& camera, double scale) {
+  TumDataset dataset = TumDataset::open(folder, camera);
+  std::vector<RgbdFrame> frames;
+  RgbdFrame frame;
+  while (dataset.next(&frame)) {
+    RgbdFrame f = deepCopy(frame);
+    f.depth_m *= scale;
+    frames.push_back(f);
+  }
+  return frames;
+}
+
+// Mean distance of the poses from the first one: the size of the trajectory.
+double extent(const Trajectory& t) {
+  double sum = 0;
+  for (const StampedPose& p : t) sum += (p.T_w_c.translation() - t.front().T_w_c.translation()).norm();
+  return sum / t.size();
+}
+
+}  // namespace
+
+// A depth sensor reading 8 % long: uncorrected, the trajectory is 8 % larger than the truth;
+// with calibration.depth_scale 1.08 (as plslam calib depth reports it) it is the truth's size.
+TEST(RunConfig, DepthScaleOfTheCalibrationUndoesAKnownDepthScale) {
+  constexpr double kScale = 1.08;
+  const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, 60);
+  const PinholeCamera camera = loadCameraFile(folder + "/camera.xml");
+  const std::vector<RgbdFrame> frames = scaledDepthFrames(folder, camera, kScale);
+  const double truth = extent(TumDataset::open(folder, camera).groundtruth());
+  const std::string cfg = test::scratchDir("depth_scale") + "/depth.yaml";
+  std::ofstream(cfg) << "calibration:\n  depth_scale: " << kScale << "\n  depth_offset_m: 0\n";
+  auto run = [&](const std::string& config) {
+    RunSwitches s;
+    s.sequential = true;
+    s.no_loop = true;
+    s.config = config;
+    System slam(camera, makeRunConfig(s, "test").options);
+    slam.start();
+    for (const RgbdFrame& f : frames) slam.feed(f);
+    slam.finish();
+    return slam.trajectory();
+  };
+  const Trajectory raw = run(""), corrected = run(cfg);
+  ASSERT_GT(raw.size(), 50u);
+  ASSERT_GT(corrected.size(), 50u);
+  std::printf("depth read x%.2f: trajectory extent / truth %.4f uncorrected, %.4f with calibration.depth_scale\n", kScale,
+              extent(raw) / truth, extent(corrected) / truth);
+  EXPECT_NEAR(extent(raw) / truth, kScale, 0.02);
+  EXPECT_NEAR(extent(corrected) / truth, 1.0, 0.02);
+  // The same frames, one scaled: the trajectories differ by the depth scale.
+  EXPECT_NEAR(extent(raw) / extent(corrected), kScale, 0.005);
+}
+
+TEST(RunConfig, BaseSwitchLoadsTheMountingAndRefusesABadFile) {
+  const std::string dir = test::scratchDir("run_config_base");
+  calib::CameraToBase mounting;
+  mounting.T_b_c = SE3(Eigen::Quaterniond(0.5, -0.5, 0.5, -0.5), Eigen::Vector3d(0.1, 0.0, 0.2));
+  calib::saveCameraToBase(dir + "/base.yaml", mounting);
+  RunSwitches s;
+  EXPECT_FALSE(makeRunConfig(s, "test").options.dense.T_base_cam.has_value());
+  s.base = dir + "/base.yaml";
+  const RunConfig c = makeRunConfig(s, "test");
+  ASSERT_TRUE(c.options.dense.T_base_cam.has_value());
+  EXPECT_LT((*c.options.dense.T_base_cam * mounting.T_b_c.inverse()).angle(), 1e-9);
+  EXPECT_NE(c.config_yaml.find("camera_to_base: \"" + s.base + "\""), std::string::npos) << c.config_yaml;
+  s.base = dir + "/missing.yaml";
+  EXPECT_THROW(makeRunConfig(s, "test"), IoError);
+}
+
+// The session fixes one map frame after its first keyframes; the poses it reports from then
+// on are in it, and so are the files it writes (map_frame.yaml, trajectory_base.txt).
+TEST(LiveSession, ReportedMapFrameIsTheOneOfTheWrittenFiles) {
+  const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, 40);
+  const PinholeCamera camera = loadCameraFile(folder + "/camera.xml");
+  const std::string dir = test::scratchDir("session_frame");
+  calib::CameraToBase mounting;
+  mounting.T_b_c = SE3(Eigen::Quaterniond(0.5, -0.5, 0.5, -0.5), Eigen::Vector3d(0.1, 0.0, 0.2));
+  calib::saveCameraToBase(dir + "/base.yaml", mounting);
+  RunSwitches s;
+  s.sequential = true;
+  s.base = dir + "/base.yaml";
+  SessionOptions so;
+  so.drop_frames = false;
+  so.map_frame_keyframes = 2;
+  LiveSession session(camera, makeRunConfig(s, "test"), so);
+  std::vector<FrameOutcome> outcomes;
+  session.setFrameListener([&](const FrameOutcome& f) { outcomes.push_back(f); });
+  session.start();
+  TumDataset dataset = TumDataset::open(folder, camera);
+  RgbdFrame frame;
+  while (dataset.next(&frame)) session.push(deepCopy(frame));
+  session.stop();
+  ASSERT_TRUE(session.mapFrame().has_value());
+  ASSERT_TRUE(outcomes.back().map_frame_fixed);
+  EXPECT_FALSE(outcomes.front().map_frame_fixed) << "fixed after 2 keyframes, not at the first frame";
+  for (const FrameOutcome& o : outcomes)
+    if (o.map_frame_fixed) {
+      EXPECT_LT((o.T_map_world * outcomes.back().T_map_world.inverse()).log().norm(), 1e-12);
+    }
+
+  const std::string out = dir + "/out";
+  session.writeOutputs(out, "", true);
+  const MapFrame written = parseMapFrameYaml(test::readFile(out + "/" + kMapFrameYaml), kMapFrameYaml);
+  EXPECT_EQ(written.origin, "base");
+  EXPECT_LT((written.T_map_world * outcomes.back().T_map_world.inverse()).angle(), 1e-6);
+  EXPECT_LT((written.T_map_world.translation() - outcomes.back().T_map_world.translation()).norm(), 1e-6);
+  const Trajectory base = readTumTrajectory(out + "/trajectory_base.txt");
+  const Trajectory cam = readTumTrajectory(out + "/trajectory.txt");
+  ASSERT_EQ(base.size(), cam.size());
+  const SE3 expected = written.T_map_world * cam.back().T_w_c * mounting.T_b_c.inverse();
+  EXPECT_LT((base.back().T_w_c.translation() - expected.translation()).norm(), 1e-4);
 }

@@ -320,6 +320,9 @@ int runDepth(int argc, char** argv) {
                           fit.scale, fit.offset, fit.rms_m, fit.pixels, fit.views, fit.min_true_m, fit.max_true_m);
   std::cout << cv::format("  to correct: true = (measured %+.5f) / %.5f; at 1 m the error is %+.1f mm\n", -fit.offset,
                           fit.scale, 1000 * (fit.scale - 1 + fit.offset));
+  std::cout << cv::format("  to apply it (run, live, the ROS node): a configuration with\n"
+                          "    calibration:\n      depth_scale: %.5f\n      depth_offset_m: %.5f\n",
+                          fit.scale, fit.offset);
   for (const std::string& g : fit.guidance) std::cout << "hint: " << g << "\n";
   return 0;
 }
@@ -377,7 +380,8 @@ int runBase(int argc, char** argv) {
     std::cout << "hint: the views disagree: is the tag fixed, flat and its size right? Keep the robot still.\n";
   saveCameraToBase(args.str("out"), c,
                    str("plslam calib base: target ", target.spec(), ", tag pose ", args.str("tag-pose"), ", ", c.views, " views"));
-  std::cout << "wrote " << args.str("out") << "\n";
+  std::cout << "wrote " << args.str("out") << " (use it: plslam run/live/servo --base " << args.str("out")
+            << ", or the ROS node's _camera_to_base)\n";
   return 0;
 }
 

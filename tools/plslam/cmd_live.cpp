@@ -32,6 +32,7 @@ int runLiveCommand(int argc, char** argv) {
                           "--record folder gives the same trajectory")
       .option("config", "YAML run options (as plslam run)")
       .flag("no-lines", "points only: no line features")
+      .option("base", "camera-to-base file of plslam calib base (as plslam run --base)")
       .option("fake", "testing: play this recorded TUM folder (with camera.xml) at camera rate instead of the camera")
       .option("fake-speed", "testing: playback speed of --fake (1 = its stamps, 0 = as fast as it is read)", "1")
       .option("log-level", "debug, info, warn, error or off", "warn")
@@ -44,12 +45,15 @@ int runLiveCommand(int argc, char** argv) {
   if (!args.parse(argc, argv)) return 0;
   setLogLevel(parseLogLevel(args.str("log-level")));
 
-  SystemOptions options;
-  OptionTable table;
-  loadRunConfig(args.has("config") ? args.str("config") : std::string(), &options, &table);
-  if (args.has("no-lines")) options.use_lines = false;
+  // The switches as plslam run's (session/run_config.h): the calibration keys are loaded there.
+  RunSwitches switches;
+  switches.config = args.str("config");
+  switches.no_lines = args.has("no-lines");
+  switches.sequential = args.has("sequential");
+  switches.base = args.str("base");
+  RunConfig config = makeRunConfig(switches, "plslam live: effective configuration");
+  const SystemOptions& options = config.options;
   LiveOptions live;
-  if (args.has("sequential")) options.sequential = true;
   live.drop_frames = !(args.has("no-drop") || args.has("sequential"));
   live.queue = args.integer("queue", 1, 1000);
   live.duration_s = args.number("duration");
@@ -87,7 +91,7 @@ int runLiveCommand(int argc, char** argv) {
   grabber->close();
   slam.finish();
   const std::string out = args.str("out");
-  writeRunOutputs(out, slam, table.toYaml("plslam live: effective configuration"), liveStatsJson(stats));
+  writeRunOutputs(out, slam, config.config_yaml, liveStatsJson(stats));
 
   const RunStats st = slam.stats();
   const Summary tms = summarize(st.tracking_ms);

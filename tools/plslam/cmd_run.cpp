@@ -50,6 +50,8 @@ Args runArguments() {
       .option("map", "start from a saved map (a run's map.plmap); its configuration is the base of this run's")
       .flag("localize", "with --map: track in the map without changing it (no keyframes, no mapping); poses in its world frame")
       .option("save-map", "where to write the map at the end (default: <out>/map.plmap)")
+      .option("base", "camera-to-base file of plslam calib base (over the key calibration.camera_to_base): the map "
+                      "frame's origin is then below the robot base, x its forward; writes trajectory_base.txt")
       .epilog(
           "outputs: trajectory.txt (TUM, every tracked frame, first camera's frame), trajectory_map.txt (the same in the\n"
           "map frame), keyframes.txt, map_frame.yaml, sparse_map.ply, stats.json, config.yaml,\n"
@@ -57,7 +59,8 @@ Args runArguments() {
           "and the dense products (unless --no-dense; see plslam export): dense_cloud.pcd, dense_cloud_semantic.ply,\n"
           "octomap.bt, octomap_semantic.ot, grid.pgm + grid.yaml, dense_products.json\n"
           "Every world-frame output but trajectory.txt and keyframes.txt is in the map frame (z up, x forward,\n"
-          "origin on the floor below the first camera; map_frame.yaml holds T_map_world).\n"
+          "origin on the floor below the first camera, or below the base with --base; map_frame.yaml holds T_map_world).\n"
+          "With --base (or calibration.camera_to_base), trajectory_base.txt holds the base's poses in the map frame.\n"
           "When the folder has groundtruth.txt, the ATE is printed and added to stats.json.\n"
           "Ctrl-C stops the run and still writes what it has.\n\n"
           "A bag is read in TUM's layout (/camera/rgb/image_color, /camera/depth/image in float metres,\n"
@@ -94,6 +97,7 @@ RunSwitches runSwitches(const Args& args) {
   switches.classes = args.str("classes");
   switches.dynamic_classes = args.str("dynamic-classes");
   switches.allow_missing_model = args.has("allow-missing-model");
+  switches.base = args.str("base");
   return switches;
 }
 

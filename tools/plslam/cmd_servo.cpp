@@ -10,6 +10,8 @@
 
 #include <visp3/core/vpMath.h>
 
+#include "calibration/base_transform.h"
+#include "camera/visp_conversion.h"
 #include "commands.h"
 #include "core/error.h"
 #include "core/log.h"
@@ -52,6 +54,8 @@ int runServo(int argc, char** argv) {
       .option("seed", "noise seed", "1")
       .option("slam-trajectory", "use the pose errors of this SLAM run (TUM trajectory; needs --groundtruth)")
       .option("groundtruth", "the ground truth of --slam-trajectory (TUM trajectory)")
+      .option("base", "camera-to-base file of plslam calib base: the camera's mounting on the base (default: a level "
+                      "camera 0.10 m ahead of the wheel axis, 0.15 m above the floor)")
       .option("rate", "control rate, Hz", "30")
       .option("max-time", "give up after this much simulated time, seconds", "120")
       .option("log-level", "debug, info, warn, error or off", "warn")
@@ -74,6 +78,8 @@ int runServo(int argc, char** argv) {
   if (!(rate > 0)) throw ConfigError("--rate must be positive");
   sim.dt = 1.0 / rate;
   sim.max_time_s = args.number("max-time");
+  // The measured mounting (the same file as plslam run --base) instead of the placeholder.
+  if (args.has("base")) sim.bMc = toVisp(calib::loadCameraToBase(args.str("base")));
   std::unique_ptr<VelocitySink> sink = makeVelocitySink(args.str("sink"), std::cout);
 
   SimulationResult r;
@@ -84,9 +90,10 @@ int runServo(int argc, char** argv) {
     const vpHomogeneousMatrix pMo(vpTranslationVector(xy[0], xy[1], sim.bMc[2][3]), vpRotationMatrix());
     r = simulateTagServo(pMo, tag, sim, sink.get());
     std::printf("tag servo %s after %d iterations, %.2f s simulated: depth error %.2f cm, bearing %.2f deg; "
-                "max |v| %.3f m/s, max |w| %.3f rad/s\n",
+                "max |v| %.3f m/s, max |w| %.3f rad/s; final base pose %.3f %.3f m %.2f deg\n",
                 r.converged ? "converged" : "did NOT converge", r.iterations, r.sim_time_s, 100 * r.position_error,
-                vpMath::deg(r.yaw_error), r.max_abs_v, r.max_abs_w);
+                vpMath::deg(r.yaw_error), r.max_abs_v, r.max_abs_w, r.final_pose.x, r.final_pose.y,
+                vpMath::deg(r.final_pose.yaw));
     return r.converged ? 0 : 1;
   }
 

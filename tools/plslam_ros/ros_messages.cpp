@@ -33,7 +33,7 @@ SE3 fromTransform(const geometry_msgs::Transform& t) {
              Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z));
 }
 
-sensor_msgs::PointCloud2 pointsMessage(const SparseMapSnapshot& map, const RobotFrames& frames,
+sensor_msgs::PointCloud2 pointsMessage(const SparseMapSnapshot& map, const SE3& T_map_world,
                                        const std_msgs::Header& header) {
   sensor_msgs::PointCloud2 cloud;
   cloud.header = header;
@@ -41,7 +41,6 @@ sensor_msgs::PointCloud2 pointsMessage(const SparseMapSnapshot& map, const Robot
   modifier.setPointCloud2FieldsByString(1, "xyz");
   modifier.resize(map.points.size());
   sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z");
-  const SE3 T_map_world = frames.T_map_world();
   for (const Eigen::Vector3d& p_w : map.points) {
     const Eigen::Vector3d p = T_map_world * p_w;
     *x = static_cast<float>(p.x());
@@ -52,7 +51,7 @@ sensor_msgs::PointCloud2 pointsMessage(const SparseMapSnapshot& map, const Robot
   return cloud;
 }
 
-visualization_msgs::Marker linesMessage(const SparseMapSnapshot& map, const RobotFrames& frames,
+visualization_msgs::Marker linesMessage(const SparseMapSnapshot& map, const SE3& T_map_world,
                                         const std_msgs::Header& header) {
   visualization_msgs::Marker m;
   m.header = header;
@@ -64,7 +63,6 @@ visualization_msgs::Marker linesMessage(const SparseMapSnapshot& map, const Robo
   m.scale.x = 0.01;  // line width, metres
   m.color.r = 1;
   m.color.a = 1;
-  const SE3 T_map_world = frames.T_map_world();
   m.points.reserve(2 * map.lines.size());
   for (const auto& [P_w, Q_w] : map.lines) {
     for (const Eigen::Vector3d& e : {T_map_world * P_w, T_map_world * Q_w}) {

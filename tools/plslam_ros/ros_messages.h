@@ -12,7 +12,6 @@
 
 #include "core/se3.h"
 #include "session/live_session.h"
-#include "session/robot_frames.h"
 
 namespace plslam::ros1 {
 
@@ -20,10 +19,10 @@ geometry_msgs::Pose toPose(const SE3& T);
 geometry_msgs::Transform toTransform(const SE3& T);
 SE3 fromTransform(const geometry_msgs::Transform& t);
 
-/// The map points, moved into the map frame: x, y, z float32 fields.
-sensor_msgs::PointCloud2 pointsMessage(const SparseMapSnapshot& map, const RobotFrames& frames, const std_msgs::Header& header);
+/// The map points, moved into the map frame (p_map = T_map_world * p_w): x, y, z float32 fields.
+sensor_msgs::PointCloud2 pointsMessage(const SparseMapSnapshot& map, const SE3& T_map_world, const std_msgs::Header& header);
 /// The 3D lines as one LINE_LIST marker (two points per line) in the map frame.
-visualization_msgs::Marker linesMessage(const SparseMapSnapshot& map, const RobotFrames& frames, const std_msgs::Header& header);
+visualization_msgs::Marker linesMessage(const SparseMapSnapshot& map, const SE3& T_map_world, const std_msgs::Header& header);
 /// The frame's tracking status and the session's counters, as one DiagnosticStatus named
 /// "plslam: tracking" (OK when tracked, WARN otherwise).
 diagnostic_msgs::DiagnosticArray statusMessage(const FrameOutcome& frame, const SessionCounts& counts,

@@ -4,7 +4,6 @@
 
 #include <filesystem>
 
-#include "calibration/base_transform.h"
 #include "camera/camera_file.h"
 #include "core/error.h"
 #include "core/log.h"
@@ -38,26 +37,26 @@ NodeSettings NodeSettings::fromParameters(const ros::NodeHandle& pnh) {
   w.dynamic_classes = param<std::string>(pnh, "dynamic_classes", "");
   w.allow_missing_model = param(pnh, "allow_missing_model", false);
   s.calib = param<std::string>(pnh, "calib", "");
-  s.camera_to_base = param<std::string>(pnh, "camera_to_base", "");
+  w.base = param<std::string>(pnh, "camera_to_base", "");
   s.out = param<std::string>(pnh, "out", s.out);
   s.map_frame = param<std::string>(pnh, "map_frame", s.map_frame);
   s.odom_frame = param<std::string>(pnh, "odom_frame", "");
   s.base_frame = param<std::string>(pnh, "base_frame", s.base_frame);
   s.session.queue = param(pnh, "queue", s.session.queue);
   s.session.drop_frames = !param(pnh, "no_drop", false);
+  s.session.map_frame_keyframes = param(pnh, "map_frame_keyframes", s.session.map_frame_keyframes);
   s.exact_sync = param<std::string>(pnh, "sync", "approximate") == "exact";
   s.sync_queue = param(pnh, "sync_queue", s.sync_queue);
   s.sparse_period_s = param(pnh, "sparse_period", s.sparse_period_s);
   s.publish_tf = param(pnh, "publish_tf", true);
   s.dense = !param(pnh, "no_dense", false);
-  if (s.session.queue < 1 || s.sync_queue < 1 || s.sparse_period_s <= 0)
-    throw ConfigError("plslam_ros: queue and sync_queue must be >= 1, sparse_period > 0");
+  if (s.session.queue < 1 || s.sync_queue < 1 || s.sparse_period_s <= 0 || s.session.map_frame_keyframes < 1)
+    throw ConfigError("plslam_ros: queue, sync_queue and map_frame_keyframes must be >= 1, sparse_period > 0");
   return s;
 }
 
 RosNode::RosNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeSettings settings)
     : nh_(nh), pnh_(pnh), settings_(std::move(settings)), tf_listener_(tf_buffer_) {
-  if (!settings_.camera_to_base.empty()) frames_ = RobotFrames(calib::loadCameraToBase(settings_.camera_to_base));
   camera_pose_pub_ = pnh_.advertise<geometry_msgs::PoseStamped>("camera_pose", 10);
   base_pose_pub_ = pnh_.advertise<geometry_msgs::PoseStamped>("base_pose", 10);
   path_pub_ = pnh_.advertise<nav_msgs::Path>("path", 1, true);
@@ -87,8 +86,10 @@ RosNode::RosNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeSettings settings)
 RosNode::~RosNode() = default;
 
 void RosNode::startSession(const PinholeCamera& camera) {
-  auto session = std::make_unique<LiveSession>(camera, makeRunConfig(settings_.switches, "plslam_ros: effective configuration"),
-                                               settings_.session);
+  RunConfig config = makeRunConfig(settings_.switches, "plslam_ros: effective configuration");
+  // The mounting is read once, by makeRunConfig (camera_to_base or calibration.camera_to_base).
+  if (config.options.dense.T_base_cam) frames_ = RobotFrames(*config.options.dense.T_base_cam);
+  auto session = std::make_unique<LiveSession>(camera, std::move(config), settings_.session);
   session->setFrameListener([this](const FrameOutcome& f) { onFrame(f); });
   session->start();
   std::lock_guard<std::mutex> lock(session_mutex_);
@@ -135,11 +136,14 @@ void RosNode::onFrame(const FrameOutcome& frame) {
   const double latency_ms = (ros::Time::now() - header.stamp).toSec() * 1000.0;
   status_pub_.publish(statusMessage(frame, session()->counts(), latency_ms, header));
   if (!frame.tracked) return;
-  const SE3 T_map_base = frames_.T_map_base(frame.T_w_c);
+  // The files' map frame once the session has fixed it (after its first keyframes), the
+  // base at the first frame until then (session/robot_frames.h).
+  const SE3 T_map_world = frame.map_frame_fixed ? frame.T_map_world : frames_.provisionalMapFrame();
+  const SE3 T_map_base = frames_.T_map_base(T_map_world, frame.T_w_c);
   if (settings_.publish_tf) publishTransform(T_map_base, header);
   geometry_msgs::PoseStamped pose;
   pose.header = header;
-  pose.pose = toPose(frames_.T_map_cam(frame.T_w_c));
+  pose.pose = toPose(frames_.T_map_cam(T_map_world, frame.T_w_c));
   camera_pose_pub_.publish(pose);
   pose.pose = toPose(T_map_base);
   base_pose_pub_.publish(pose);
@@ -177,8 +181,10 @@ void RosNode::onSparseTimer(const ros::WallTimerEvent&) {
   std_msgs::Header header;
   header.stamp = ros::Time::now();
   header.frame_id = settings_.map_frame;
-  points_pub_.publish(pointsMessage(map, frames_, header));
-  lines_pub_.publish(linesMessage(map, frames_, header));
+  const std::optional<MapFrame> frame = s->mapFrame();
+  const SE3 T_map_world = frame ? frame->T_map_world : frames_.provisionalMapFrame();
+  points_pub_.publish(pointsMessage(map, T_map_world, header));
+  lines_pub_.publish(linesMessage(map, T_map_world, header));
 }
 
 std::string RosNode::statsExtra() const {

@@ -34,12 +34,12 @@ namespace plslam::ros1 {
 
 /// The node's parameters (private namespace, ~name); see README "Under ROS".
 struct NodeSettings {
-  RunSwitches switches;            ///< config, map, localize, sequential, no_lines, no_dynamic, no_loop, segmenter...
+  RunSwitches switches;            ///< config, map, localize, sequential, no_lines, no_dynamic, no_loop, segmenter,
+                                   ///< base (parameter camera_to_base: `plslam calib base` file; empty: opticalToBase())
   std::string calib;               ///< camera file; empty: the camera_info
-  std::string camera_to_base;      ///< `plslam calib base` file; empty: opticalToBase() (camera at the base origin, level)
   std::string out = "plslam_ros_out";  ///< where the save service and the shutdown write the outputs
   std::string map_frame = "map", odom_frame, base_frame = "base_footprint";
-  SessionOptions session;          ///< queue, drop_frames
+  SessionOptions session;          ///< queue, drop_frames, map_frame_keyframes
   bool exact_sync = false;         ///< pair colour and depth by equal stamps instead of ApproximateTime
   int sync_queue = 10;             ///< message_filters queue size
   double sparse_period_s = 1.0;    ///< period of the sparse map topics
