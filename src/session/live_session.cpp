@@ -27,7 +27,10 @@ SparseMapSnapshot sparseMapSnapshot(const Map& map) {
 LiveSession::LiveSession(const PinholeCamera& camera, RunConfig config, SessionOptions options)
     : system_(camera, config.options, config.map ? std::move(config.map->map) : Map()),
       config_yaml_(std::move(config.config_yaml)),
-      queue_(options.queue, options.drop_frames ? QueuePolicy::kDropOldest : QueuePolicy::kBlock) {}
+      queue_(options.queue, options.drop_frames ? QueuePolicy::kDropOldest : QueuePolicy::kBlock) {
+  if (config.map) loaded_frame_ = config.map->frame;
+  maps_ = makeLiveMaps(&system_, options.maps_dir, loaded_frame_ ? &*loaded_frame_ : nullptr);
+}
 
 LiveSession::~LiveSession() {
   // An owner that did not stop (an exception on its side): end the thread, keep quiet.
@@ -38,7 +41,9 @@ LiveSession::~LiveSession() {
 void LiveSession::start() {
   if (started_) throw Error("LiveSession::start called twice");
   started_ = true;
+  if (maps_) maps_->setListener(maps_listener_);
   system_.start();
+  if (maps_) maps_->start();
   thread_ = std::thread([this] { slamLoop(); });
 }
 
@@ -96,24 +101,35 @@ void LiveSession::stop() {
   queue_.close();
   thread_.join();
   if (failure_) std::rethrow_exception(failure_);
+  // No map update races the end: the final products are built from the final poses.
+  if (maps_) maps_->stop();
   system_.finish();
   const SessionCounts c = counts();
   kLog.info(str("received ", c.received, ", processed ", c.processed, ", dropped ", c.dropped, ", tracked ",
                 c.tracked));
 }
 
+std::optional<MapFrame> LiveSession::givenFrame() const {
+  if (maps_)
+    if (std::optional<MapFrame> settled = maps_->settledFrame()) return settled;
+  return loaded_frame_;
+}
+
 void LiveSession::writeOutputs(const std::string& dir, const std::string& stats_extra, bool dense) {
   if (!stopped_) throw Error("LiveSession::writeOutputs before stop()");
+  std::string extra = stats_extra;
+  if (maps_) extra += (extra.empty() ? "" : ", ") + liveMapsStatsJson(maps_->stats());
   // The dense products first: the floor of their cloud gives the map frame of every output,
   // as in plslam run (without them the run outputs find the floor in the sparse map).
   const DenseOptions& dopt = system_.options().dense;
+  const std::optional<MapFrame> given = givenFrame();
   if (!dense || !dopt.enabled) {
-    writeRunOutputs(dir, system_, config_yaml_, stats_extra);
+    writeRunOutputs(dir, system_, config_yaml_, extra, "", given ? &*given : nullptr);
     return;
   }
-  const DenseProducts products = buildDenseProducts(system_.map(), system_.camera(), dopt);
+  const DenseProducts products = buildDenseProducts(system_.map(), system_.camera(), dopt, {}, {}, given ? &*given : nullptr);
   writeDenseProducts(dir, products, {}, dopt);
-  writeRunOutputs(dir, system_, config_yaml_, stats_extra, "", &products.frame);
+  writeRunOutputs(dir, system_, config_yaml_, extra, "", &products.frame);
 }
 
 }  // namespace plslam

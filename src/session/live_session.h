@@ -2,8 +2,11 @@
 // pull them (the ROS node's subscriber callbacks; a ROS 2 node would use it the same way).
 // It owns the System, a small queue in front of it, and the SLAM thread that pops and
 // tracks; it reports each frame's outcome to a listener, gives snapshots of the sparse map,
-// and writes the outputs of `plslam run` (run_outputs.h, the dense products) on request
-// or at the end. Nothing here knows about any middleware.
+// keeps the dense maps up to date while it runs (session/live_maps.h: every
+// dense.live_every_keyframes keyframes or dense.live_every_s seconds, written into
+// SessionOptions::maps_dir and handed to a maps listener), and writes the outputs of
+// `plslam run` (run_outputs.h, the dense products) on request or at the end. Nothing here
+// knows about any middleware.
 //
 // The queue drops the oldest waiting frame when tracking falls behind (counted), so
 // tracking works on a recent frame; with drop_frames = false push() waits instead, which
@@ -11,12 +14,15 @@
 //
 // Thread safety: push(), save(), sparseMap() and counts() may be called from any thread,
 // concurrently with the SLAM thread; start(), stop() and writeOutputs() from one owner
-// thread. The listener runs on the SLAM thread: keep it short (publish, do not compute).
+// thread. The frame listener runs on the SLAM thread, the maps listener on the maps
+// thread: keep them short (publish, do not compute).
 #pragma once
 
 #include <Eigen/Core>
 #include <atomic>
 #include <functional>
+#include <memory>
+#include <optional>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -25,6 +31,7 @@
 
 #include "core/bounded_queue.h"
 #include "core/frame.h"
+#include "session/live_maps.h"
 #include "session/run_config.h"
 #include "system/system.h"
 
@@ -33,6 +40,7 @@ namespace plslam {
 struct SessionOptions {
   int queue = 2;            ///< frames waiting for tracking; beyond it the oldest is dropped
   bool drop_frames = true;  ///< false: push() waits for tracking instead of dropping
+  std::string maps_dir;     ///< where the maps while running are written (empty: not written, only listened to)
 };
 
 /// One tracked (or not) frame, as the listener sees it.
@@ -71,7 +79,10 @@ class LiveSession {
 
   /// Called with each frame's outcome on the SLAM thread. Set before start().
   void setFrameListener(std::function<void(const FrameOutcome&)> listener) { listener_ = std::move(listener); }
-  /// Starts the System and the SLAM thread.
+  /// Called after each update of the maps while running, on the maps thread (never when
+  /// dense.enabled is false or both dense.live_every_* are 0). Set before start().
+  void setMapsListener(std::function<void(const LiveMapsUpdate&)> listener) { maps_listener_ = std::move(listener); }
+  /// Starts the System, the SLAM thread and the maps thread.
   void start();
   /// Hands a frame to the SLAM thread. False once stopped (the frame is not used).
   bool push(RgbdFrame frame);
@@ -85,15 +96,25 @@ class LiveSession {
   /// Ends the stream: the waiting frames are tracked, then the System finishes. Rethrows a
   /// failure of the SLAM thread. Calling it again does nothing.
   void stop();
-  /// After stop(): the run outputs and, when `dense` and the options allow, the dense products.
+  /// After stop(): the run outputs and, when `dense` and the options allow, the dense products,
+  /// in the map frame the maps while running settled on (or the saved map's, or estimated).
   void writeOutputs(const std::string& dir, const std::string& stats_extra, bool dense);
 
   const System& system() const { return system_; }
+  /// The maps while running (null when off).
+  const LiveMaps* liveMaps() const { return maps_.get(); }
 
  private:
   void slamLoop();
 
+  /// The frame the final outputs are written in: the maps' settled one, else the saved map's
+  /// (nullopt: estimated at the end).
+  std::optional<MapFrame> givenFrame() const;
+
   System system_;
+  std::optional<MapFrame> loaded_frame_;  // the saved map's frame, when tracking started from one
+  std::unique_ptr<LiveMaps> maps_;        // after system_: stopped before the System goes
+  std::function<void(const LiveMapsUpdate&)> maps_listener_;
   std::string config_yaml_;
   BoundedQueue<RgbdFrame> queue_;
   std::function<void(const FrameOutcome&)> listener_;
