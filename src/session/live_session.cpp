@@ -29,7 +29,7 @@ LiveSession::LiveSession(const PinholeCamera& camera, RunConfig config, SessionO
       config_yaml_(std::move(config.config_yaml)),
       queue_(options.queue, options.drop_frames ? QueuePolicy::kDropOldest : QueuePolicy::kBlock) {
   if (config.map) loaded_frame_ = config.map->frame;
-  maps_ = makeLiveMaps(&system_, options.maps_dir, loaded_frame_ ? &*loaded_frame_ : nullptr);
+  if (options.live_maps) maps_ = makeLiveMaps(&system_, options.maps_dir, loaded_frame_ ? &*loaded_frame_ : nullptr);
 }
 
 LiveSession::~LiveSession() {
@@ -83,7 +83,9 @@ void LiveSession::slamLoop() {
 
 void LiveSession::save(const std::string& dir, const std::string& stats_extra) {
   std::lock_guard<std::mutex> lock(feed_mutex_);
-  writeRunOutputs(dir, system_, config_yaml_, stats_extra);
+  // In the frame of the maps while running, when they have settled on one.
+  const std::optional<MapFrame> frame = givenFrame();
+  writeRunOutputs(dir, system_, config_yaml_, stats_extra, "", frame ? &*frame : nullptr);
 }
 
 SessionCounts LiveSession::counts() const {

@@ -40,6 +40,7 @@ namespace plslam {
 struct SessionOptions {
   int queue = 2;            ///< frames waiting for tracking; beyond it the oldest is dropped
   bool drop_frames = true;  ///< false: push() waits for tracking instead of dropping
+  bool live_maps = true;    ///< maps while running (also needs dense.enabled and a dense.live_every_* > 0)
   std::string maps_dir;     ///< where the maps while running are written (empty: not written, only listened to)
 };
 

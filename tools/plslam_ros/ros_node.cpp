@@ -50,6 +50,8 @@ NodeSettings NodeSettings::fromParameters(const ros::NodeHandle& pnh) {
   s.sparse_period_s = param(pnh, "sparse_period", s.sparse_period_s);
   s.publish_tf = param(pnh, "publish_tf", true);
   s.dense = !param(pnh, "no_dense", false);
+  s.session.live_maps = s.dense;
+  s.session.maps_dir = s.out;
   if (s.session.queue < 1 || s.sync_queue < 1 || s.sparse_period_s <= 0)
     throw ConfigError("plslam_ros: queue and sync_queue must be >= 1, sparse_period > 0");
   return s;
@@ -64,6 +66,8 @@ RosNode::RosNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeSettings settings)
   points_pub_ = pnh_.advertise<sensor_msgs::PointCloud2>("sparse_points", 1, true);
   lines_pub_ = pnh_.advertise<visualization_msgs::Marker>("sparse_lines", 1, true);
   status_pub_ = pnh_.advertise<diagnostic_msgs::DiagnosticArray>("status", 10);
+  dense_cloud_pub_ = pnh_.advertise<sensor_msgs::PointCloud2>("dense_cloud", 1, true);
+  grid_pub_ = pnh_.advertise<nav_msgs::OccupancyGrid>("grid", 1, true);
   save_srv_ = pnh_.advertiseService("save_map", &RosNode::onSave, this);
   sparse_timer_ = nh_.createWallTimer(ros::WallDuration(settings_.sparse_period_s), &RosNode::onSparseTimer, this);
   path_.header.frame_id = settings_.map_frame;
@@ -90,6 +94,7 @@ void RosNode::startSession(const PinholeCamera& camera) {
   auto session = std::make_unique<LiveSession>(camera, makeRunConfig(settings_.switches, "plslam_ros: effective configuration"),
                                                settings_.session);
   session->setFrameListener([this](const FrameOutcome& f) { onFrame(f); });
+  session->setMapsListener([this](const LiveMapsUpdate& u) { onMaps(u); });
   session->start();
   std::lock_guard<std::mutex> lock(session_mutex_);
   session_ = std::move(session);
@@ -179,6 +184,17 @@ void RosNode::onSparseTimer(const ros::WallTimerEvent&) {
   header.frame_id = settings_.map_frame;
   points_pub_.publish(pointsMessage(map, frames_, header));
   lines_pub_.publish(linesMessage(map, frames_, header));
+}
+
+void RosNode::onMaps(const LiveMapsUpdate& update) {
+  std_msgs::Header header;
+  header.stamp = ros::Time::now();
+  header.frame_id = settings_.map_frame;
+  // The products are in the floor-based map frame (core/map_frame.h); they are published in
+  // the node's map frame, the one of its TF and sparse map (session/robot_frames.h).
+  const SE3 T_pub_map = frames_.T_map_world() * update.frame.T_map_world.inverse();
+  dense_cloud_pub_.publish(denseCloudMessage(*update.cloud, T_pub_map, header));
+  if (update.grid->width > 0) grid_pub_.publish(gridMessage(*update.grid, T_pub_map, header));
 }
 
 std::string RosNode::statsExtra() const {
