@@ -1,6 +1,9 @@
 #include "session/live_maps.h"
 
 #include <chrono>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include "core/error.h"
 #include "core/log.h"
@@ -29,7 +32,7 @@ std::string liveMapsStatsJson(const LiveMapsStats& s) {
 
 LiveMaps::LiveMaps(const Map& map, const PinholeCamera& camera, const DenseOptions& options, std::string out_dir,
                    const MapFrame* given, int nice)
-    : map_(map), maps_(camera, options, given), options_(options), out_dir_(std::move(out_dir)), nice_(nice) {
+    : map_(map), maps_(std::make_unique<IncrementalDenseMaps>(camera, options, given)), options_(options), out_dir_(std::move(out_dir)), nice_(nice) {
   if (given) settled_ = *given;
 }
 
@@ -70,6 +73,12 @@ void LiveMaps::stop() {
   }
   wake_.notify_one();
   if (thread_.joinable()) thread_.join();
+  maps_.reset();
+#ifdef __GLIBC__
+  // glibc keeps freed heap pages (many small voxel cells) resident: hand them back, so the
+  // final products do not stack on the maps' memory.
+  malloc_trim(0);
+#endif
 }
 
 bool LiveMaps::due() {
@@ -99,19 +108,23 @@ void LiveMaps::loop() {
 void LiveMaps::runUpdate() {
   LiveMapsUpdate u;
   std::string steps;
+  size_t points = 0;
   try {
-    u.what = maps_.update(map_);
+    u.what = maps_->update(map_);
     if (!u.what.changed) return;
-    const DenseProducts& p = maps_.products();
+    const DenseProducts& p = maps_->products();
     if (!out_dir_.empty()) {
       const auto t0 = std::chrono::steady_clock::now();
       writeDenseProducts(out_dir_, p, {}, options_);
       u.write_ms = msSince(t0);
     }
     u.frame = p.frame;
-    u.frame_settled = maps_.settledFrame().has_value();
-    u.cloud = std::make_shared<const std::vector<FusedPoint>>(p.cloud);
-    u.grid = std::make_shared<const OccupancyGrid>(p.grid);
+    u.frame_settled = maps_->settledFrame().has_value();
+    points = p.cloud.size();
+    if (listener_) {  // copies the listener may keep (the products change at the next update)
+      u.cloud = std::make_shared<const std::vector<FusedPoint>>(p.cloud);
+      u.grid = std::make_shared<const OccupancyGrid>(p.grid);
+    }
     for (const DenseCost& c : p.costs) steps += str(steps.empty() ? "" : ", ", c.step, " ", c.seconds * 1000.0, " ms");
   } catch (const std::exception& e) {
     kLog.warn(str("map update failed (the next one will be tried): ", e.what()));
@@ -133,7 +146,7 @@ void LiveMaps::runUpdate() {
   } catch (const std::exception& e) {
     kLog.warn(str("the maps listener failed: ", e.what()));
   }
-  kLog.info(str("update ", u.index, " (", u.what.why, "): ", u.what.keyframes, " keyframes, ", u.cloud->size(),
+  kLog.info(str("update ", u.index, " (", u.what.why, "): ", u.what.keyframes, " keyframes, ", points,
                 " points, ", u.what.ms, " ms (", steps, ") + ", u.write_ms, " ms writing"));
 }
 

@@ -43,7 +43,7 @@ struct LiveMapsUpdate {
   IncrementalUpdate what;        ///< keyframes added, re-fusion, time
   MapFrame frame;                ///< the products' frame
   bool frame_settled = false;    ///< false: provisional (no floor plane yet)
-  std::shared_ptr<const std::vector<FusedPoint>> cloud;  ///< fused cloud, map frame
+  std::shared_ptr<const std::vector<FusedPoint>> cloud;  ///< fused cloud, map frame (set only when a listener is)
   std::shared_ptr<const OccupancyGrid> grid;             ///< 2D grid (width 0: none yet)
   double write_ms = 0;           ///< writing the files (0: no folder)
 };
@@ -77,7 +77,8 @@ class LiveMaps {
   /// thread-safe, harmless after stop().
   void keyframeMapped();
   /// Ends the thread after the update in progress (no further update: the end of the run
-  /// builds the final products). Calling it again does nothing.
+  /// builds the final products) and frees the maps' memory (their own copies of the
+  /// keyframe clouds, the voxels, the octrees). Calling it again does nothing.
   void stop();
 
   /// The map frame once final (given, or a floor found); nullopt before.
@@ -90,7 +91,7 @@ class LiveMaps {
   void runUpdate();
 
   const Map& map_;
-  IncrementalDenseMaps maps_;
+  std::unique_ptr<IncrementalDenseMaps> maps_;  // released by stop(): the end's products need the memory
   DenseOptions options_;
   std::string out_dir_;
   int nice_;
