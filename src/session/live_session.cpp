@@ -29,6 +29,7 @@ LiveSession::LiveSession(const PinholeCamera& camera, RunConfig config, SessionO
       config_yaml_(std::move(config.config_yaml)),
       queue_(options.queue, options.drop_frames ? QueuePolicy::kDropOldest : QueuePolicy::kBlock) {
   if (config.map) loaded_frame_ = config.map->frame;
+  corrections_seen_ = system_.map().corrections();  // a loaded map's own corrections are no news
   if (options.live_maps) maps_ = makeLiveMaps(&system_, options.maps_dir, loaded_frame_ ? &*loaded_frame_ : nullptr);
 }
 
@@ -62,13 +63,7 @@ void LiveSession::slamLoop() {
         const auto t0 = std::chrono::steady_clock::now();
         const TrackingResult r = system_.feed(*frame);
         out.tracking_ms = msSince(t0);
-        out.t_ns = frame->t_ns;
-        out.status = r.status;
-        out.reason = r.reason;
-        out.tracked = isTracked(r.status);
-        out.T_w_c = r.T_w_c;
-        keyframes_ += r.new_keyframe;
-        out.keyframes = keyframes_;
+        describe(*frame, r, &out);
       }
       ++processed_;
       tracked_ += out.tracked;
@@ -79,6 +74,25 @@ void LiveSession::slamLoop() {
     failure_ = std::current_exception();
     queue_.close();
   }
+}
+
+void LiveSession::describe(const RgbdFrame& frame, const TrackingResult& r, FrameOutcome* out) {
+  out->t_ns = frame.t_ns;
+  out->status = r.status;
+  out->reason = r.reason;
+  out->tracked = isTracked(r.status);
+  out->T_w_c = r.T_w_c;
+  keyframes_ += r.new_keyframe;
+  out->keyframes = keyframes_;
+  uint64_t corrections = 0;
+  {
+    std::lock_guard<std::mutex> lock(system_.map().mutex());
+    corrections = system_.map().corrections();
+  }
+  if (corrections == corrections_seen_) return;
+  corrections_seen_ = corrections;
+  // Between two frames on the feeding thread: the records are this thread's, the map locked.
+  out->revised = std::make_shared<const Trajectory>(system_.trajectory());
 }
 
 void LiveSession::save(const std::string& dir, const std::string& stats_extra) {

@@ -31,6 +31,7 @@
 
 #include "core/bounded_queue.h"
 #include "core/frame.h"
+#include "core/trajectory.h"
 #include "session/live_maps.h"
 #include "session/run_config.h"
 #include "system/system.h"
@@ -53,6 +54,10 @@ struct FrameOutcome {
   SE3 T_w_c;                 ///< camera pose in plslam's world (the first camera's optical frame); valid when tracked
   int keyframes = 0;         ///< keyframes made in this session so far
   double tracking_ms = 0;    ///< System::feed time of this frame
+  /// Set on the first frame after a loop correction changed the map (Map::corrections()):
+  /// every tracked frame's pose so far, corrected (SLAM world), so that a path drawn from
+  /// the earlier outcomes can be redrawn.
+  std::shared_ptr<const Trajectory> revised;
 };
 
 struct SessionCounts {
@@ -107,6 +112,8 @@ class LiveSession {
 
  private:
   void slamLoop();
+  /// Fills `out` from one fed frame; the revised trajectory after a loop correction.
+  void describe(const RgbdFrame& frame, const TrackingResult& r, FrameOutcome* out);
 
   /// The frame the final outputs are written in: the maps' settled one, else the saved map's
   /// (nullopt: estimated at the end).
@@ -124,6 +131,7 @@ class LiveSession {
   std::exception_ptr failure_;
   std::atomic<int> received_{0}, processed_{0}, tracked_{0};
   int keyframes_ = 0;
+  uint64_t corrections_seen_ = 0;  // SLAM thread: Map::corrections() when the last outcome was made
   bool started_ = false, stopped_ = false;
 };
 

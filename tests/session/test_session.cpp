@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <thread>
 
 #include "camera/camera_file.h"
@@ -168,4 +169,51 @@ TEST(LiveSession, MapsGrowAndAreReadableWhileTheRunGoesOn) {
   const MapFrame final_frame = parseMapFrameYaml(test::readFile(scratch + "/final/" + kMapFrameYaml), kMapFrameYaml);
   EXPECT_LT((final_frame.T_map_world.translation() - settled->T_map_world.translation()).norm(), 1e-6);
   EXPECT_NE(test::readFile(scratch + "/final/stats.json").find("\"live_map_updates\""), std::string::npos);
+}
+
+// After a loop correction the next outcome carries every tracked pose so far, corrected,
+// so that a front end can redraw its path (the ROS node's ~path).
+TEST(LiveSession, OutcomeAfterALoopCorrectionCarriesTheRevisedTrajectory) {
+  const std::string folder = test::syntheticSequence(synth::SceneKind::kLoop, 450);
+  const PinholeCamera camera = loadCameraFile(folder + "/camera.xml");
+  const std::string config = test::scratchDir("session_revised") + "/config.yaml";
+  std::ofstream(config) << "dense:\n  enabled: false\n";  // not needed here: quicker
+  RunSwitches s;
+  s.sequential = true;
+  s.config = config;
+  SessionOptions so;
+  so.drop_frames = false;
+  LiveSession session(camera, makeRunConfig(s, "test"), so);
+  std::vector<FrameOutcome> outcomes;
+  session.setFrameListener([&](const FrameOutcome& f) { outcomes.push_back(f); });
+  session.start();
+  TumDataset dataset = TumDataset::open(folder, camera);
+  RgbdFrame frame;
+  while (dataset.next(&frame)) session.push(deepCopy(frame));
+  session.stop();
+
+  ASSERT_GE(session.system().map().corrections(), 1u) << "the loop scene closes its loop";
+  size_t first = outcomes.size();
+  int revisions = 0, tracked = 0;
+  for (size_t i = 0; i < outcomes.size(); ++i) {
+    tracked += outcomes[i].tracked;
+    if (!outcomes[i].revised) continue;
+    ++revisions;
+    if (first == outcomes.size()) first = i;
+    EXPECT_EQ(outcomes[i].revised->size(), static_cast<size_t>(tracked)) << "every tracked frame so far, at " << i;
+  }
+  // One revision per frame that followed corrections (a loop may count several; the end's
+  // finish() may add one no frame followed).
+  EXPECT_GE(revisions, 1);
+  EXPECT_LE(revisions, static_cast<int>(session.system().map().corrections()));
+  ASSERT_LT(first, outcomes.size());
+  // The revised poses are the corrected ones: they moved from what the outcomes said.
+  const Trajectory& revised = *outcomes[first].revised;
+  std::map<TimeNs, SE3> told;
+  for (size_t i = 0; i < first; ++i)
+    if (outcomes[i].tracked) told[outcomes[i].t_ns] = outcomes[i].T_w_c;
+  double moved = 0;
+  for (const StampedPose& p : revised)
+    if (told.count(p.t_ns)) moved = std::max(moved, (told[p.t_ns].translation() - p.T_w_c.translation()).norm());
+  EXPECT_GT(moved, 1e-3);
 }

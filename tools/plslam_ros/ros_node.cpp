@@ -149,8 +149,22 @@ void RosNode::onFrame(const FrameOutcome& frame) {
   pose.pose = toPose(T_map_base);
   base_pose_pub_.publish(pose);
   path_.header.stamp = header.stamp;
-  path_.poses.push_back(pose);
+  // After a loop correction the whole path is redrawn from the corrected poses (this
+  // frame's included); otherwise it grows by this pose.
+  if (frame.revised) revisePath(*frame.revised);
+  else path_.poses.push_back(pose);
   path_pub_.publish(path_);
+}
+
+void RosNode::revisePath(const Trajectory& corrected) {
+  path_.poses.clear();
+  geometry_msgs::PoseStamped pose;
+  pose.header.frame_id = settings_.map_frame;
+  for (const StampedPose& p : corrected) {
+    pose.header.stamp = toRosTime(p.t_ns);
+    pose.pose = toPose(frames_.T_map_base(p.T_w_c));
+    path_.poses.push_back(pose);
+  }
 }
 
 void RosNode::publishTransform(const SE3& T_map_base, const std_msgs::Header& header) {

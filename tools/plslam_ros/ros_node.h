@@ -68,6 +68,7 @@ class RosNode {
   void onCameraInfo(const sensor_msgs::CameraInfoConstPtr& info);
   void onImages(const sensor_msgs::ImageConstPtr& colour, const sensor_msgs::ImageConstPtr& depth);
   void onFrame(const FrameOutcome& frame);
+  void revisePath(const Trajectory& corrected);  // SLAM thread
   void publishTransform(const SE3& T_map_base, const std_msgs::Header& header);
   void onSparseTimer(const ros::WallTimerEvent&);
   void onMaps(const LiveMapsUpdate& update);
