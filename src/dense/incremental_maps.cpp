@@ -130,20 +130,7 @@ IncrementalUpdate IncrementalDenseMaps::update(const Map& map) {
   u.corrections = s.corrections;
   u.why = updates_ == 0 ? "first" : corrected ? "loop correction" : "new keyframes";
   std::vector<FusedPoint> cloud_w;
-  timedStep(&products_, "cloud", [&] {
-    for (auto& [id, cloud] : s.new_clouds) clouds_[id] = std::move(cloud);
-    if (corrected || updates_ == 0) {
-      fuseAll(s);
-    } else {
-      for (const auto& [id, cloud] : s.new_clouds) accumulate(clouds_.at(id), s.poses.at(id));
-    }
-    if (!voxels_) cloud_w = raw_w_;
-    else
-      voxels_->forEach(std::max(1, options_.min_voxel_points),
-                       [&](const Eigen::Vector3f& c, uint8_t r, uint8_t g, uint8_t b, int16_t cls, int n) {
-                         cloud_w.push_back({c, r, g, b, cls, n});
-                       });
-  });
+  timedStep(&products_, "cloud", [&] { cloud_w = foldClouds(&s, corrected || updates_ == 0); });
   FloorPlane floor;
   MapFrame frame;
   bool new_frame = false;  // the octree is then rebuilt in the new frame
@@ -163,6 +150,23 @@ IncrementalUpdate IncrementalDenseMaps::update(const Map& map) {
   u.keyframes = products_.keyframes_with_cloud;
   u.ms = secondsSince(t0) * 1000.0;
   return u;
+}
+
+// Adds the new keyframes' clouds to the voxels, or with `rebuild` every keyframe's at its
+// current pose into new ones; returns the fused world cloud.
+std::vector<FusedPoint> IncrementalDenseMaps::foldClouds(Snapshot* s, bool rebuild) {
+  for (auto& [id, cloud] : s->new_clouds) clouds_[id] = std::move(cloud);
+  if (rebuild) fuseAll(*s);
+  else
+    for (const auto& [id, cloud] : s->new_clouds) accumulate(clouds_.at(id), s->poses.at(id));
+  if (!voxels_) return raw_w_;
+  std::vector<FusedPoint> cloud_w;
+  cloud_w.reserve(voxels_->size());
+  voxels_->forEach(std::max(1, options_.min_voxel_points),
+                   [&](const Eigen::Vector3f& c, uint8_t r, uint8_t g, uint8_t b, int16_t cls, int n) {
+                     cloud_w.push_back({c, r, g, b, cls, n});
+                   });
+  return cloud_w;
 }
 
 // Inserts the new keyframes' scans, or with `rebuild` every keyframe's into a new tree.

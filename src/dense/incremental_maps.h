@@ -48,7 +48,8 @@ struct IncrementalUpdate {
   bool changed = false;        ///< false: nothing new in the map, products unchanged
   int keyframes_added = 0;     ///< keyframes folded in by this update
   int keyframes = 0;           ///< keyframes in the products
-  bool refused = false;        ///< the cloud and octree were rebuilt from every keyframe's current pose
+  bool refused = false;        ///< rebuilt from every keyframe's current pose: the cloud and octree after a
+                               ///< loop correction, the octree after a move of the provisional map frame
   std::string why;             ///< "first", "new keyframes", "loop correction", "map frame"
   uint64_t corrections = 0;    ///< Map::corrections() the products reflect
   double ms = 0;               ///< wall time of the update (copy, fusion, octrees, grid)
@@ -77,6 +78,7 @@ class IncrementalDenseMaps {
   Snapshot snapshot(const Map& map) const;
   void accumulate(const std::vector<DensePoint>& cloud_c, const SE3& T_w_c);
   void fuseAll(const Snapshot& s);
+  std::vector<FusedPoint> foldClouds(Snapshot* s, bool rebuild);
   MapFrame chooseFrame(const Snapshot& s, const std::vector<FusedPoint>& cloud_w, FloorPlane* floor, bool* moved);
   void updateOctree(const Snapshot& s, const SE3& T_map_world, bool rebuild);
   void remakeDerived(std::vector<FusedPoint> cloud_w);
