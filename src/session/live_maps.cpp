@@ -48,7 +48,17 @@ std::unique_ptr<LiveMaps> makeLiveMaps(System* system, std::string out_dir, cons
 LiveMaps::~LiveMaps() { stop(); }
 
 void LiveMaps::attach(System* system) {
-  system->setKeyframeObserver([this](Id) { keyframeMapped(); });
+  // The observer holds the signal, not this: the System's mapping thread may call it while
+  // an owner that failed destroys this object before the System.
+  system->setKeyframeObserver([signal = signal_](Id) { signal->keyframeMapped(); });
+}
+
+void LiveMaps::Signal::keyframeMapped() {
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    ++pending;
+  }
+  wake.notify_one();
 }
 
 void LiveMaps::start() {
@@ -58,20 +68,14 @@ void LiveMaps::start() {
   thread_ = std::thread([this] { loop(); });
 }
 
-void LiveMaps::keyframeMapped() {
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    ++pending_keyframes_;
-  }
-  wake_.notify_one();
-}
+void LiveMaps::keyframeMapped() { signal_->keyframeMapped(); }
 
 void LiveMaps::stop() {
   {
-    std::lock_guard<std::mutex> lock(mutex_);
-    stopping_ = true;
+    std::lock_guard<std::mutex> lock(signal_->mutex);
+    signal_->stopping = true;
   }
-  wake_.notify_one();
+  signal_->wake.notify_one();
   if (thread_.joinable()) thread_.join();
   maps_.reset();
 #ifdef __GLIBC__
@@ -82,22 +86,22 @@ void LiveMaps::stop() {
 }
 
 bool LiveMaps::due() {
-  if (options_.live_every_keyframes > 0 && pending_keyframes_ >= options_.live_every_keyframes) return true;
+  if (options_.live_every_keyframes > 0 && signal_->pending >= options_.live_every_keyframes) return true;
   if (options_.live_every_s <= 0) return false;
   if (std::chrono::steady_clock::now() - last_update_ < std::chrono::duration<double>(options_.live_every_s))
     return false;
-  if (pending_keyframes_ > 0) return true;
+  if (signal_->pending > 0) return true;
   std::lock_guard<std::mutex> lock(map_.mutex());
   return map_.corrections() != corrections_;
 }
 
 void LiveMaps::loop() {
   if (!setThisThreadNice(nice_)) kLog.debug("the scheduler refused the background nice value");
-  std::unique_lock<std::mutex> lock(mutex_);
-  while (!stopping_) {
-    wake_.wait_for(lock, kPoll);
-    if (stopping_ || !due()) continue;
-    pending_keyframes_ = 0;
+  std::unique_lock<std::mutex> lock(signal_->mutex);
+  while (!signal_->stopping) {
+    signal_->wake.wait_for(lock, kPoll);
+    if (signal_->stopping || !due()) continue;
+    signal_->pending = 0;
     lock.unlock();
     runUpdate();
     lock.lock();
@@ -128,12 +132,12 @@ void LiveMaps::runUpdate() {
     for (const DenseCost& c : p.costs) steps += str(steps.empty() ? "" : ", ", c.step, " ", c.seconds * 1000.0, " ms");
   } catch (const std::exception& e) {
     kLog.warn(str("map update failed (the next one will be tried): ", e.what()));
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::lock_guard<std::mutex> lock(signal_->mutex);
     ++stats_.failures;
     return;
   }
   {
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::lock_guard<std::mutex> lock(signal_->mutex);
     corrections_ = u.what.corrections;
     u.index = ++stats_.updates;
     stats_.refusions += u.what.refused;
@@ -151,12 +155,12 @@ void LiveMaps::runUpdate() {
 }
 
 std::optional<MapFrame> LiveMaps::settledFrame() const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> lock(signal_->mutex);
   return settled_;
 }
 
 LiveMapsStats LiveMaps::stats() const {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> lock(signal_->mutex);
   return stats_;
 }
 

@@ -87,7 +87,7 @@ class LiveMaps {
 
  private:
   void loop();
-  bool due();  // under mutex_
+  bool due();  // under signal_->mutex
   void runUpdate();
 
   const Map& map_;
@@ -97,12 +97,18 @@ class LiveMaps {
   int nice_;
   std::function<void(const LiveMapsUpdate&)> listener_;
   std::thread thread_;
-  mutable std::mutex mutex_;
-  std::condition_variable wake_;
-  int pending_keyframes_ = 0;  // mapped since the last update
+  /// What the keyframe observer touches (shared with it), and the lock of the stats.
+  struct Signal {
+    std::mutex mutex;
+    std::condition_variable wake;
+    int pending = 0;        ///< keyframes mapped since the last update
+    bool stopping = false;
+    void keyframeMapped();
+  };
+  std::shared_ptr<Signal> signal_ = std::make_shared<Signal>();
   uint64_t corrections_ = 0;   // Map::corrections() of the last update
   std::chrono::steady_clock::time_point last_update_;
-  bool stopping_ = false, started_ = false;
+  bool started_ = false;
   LiveMapsStats stats_;
   std::optional<MapFrame> settled_;
 };
