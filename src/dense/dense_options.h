@@ -1,6 +1,7 @@
 // Options of the dense maps: the per-keyframe clouds the mapping thread makes, and the
 // products built from them at the end of a run or by `plslam export` (fused cloud,
-// OctoMaps, 2D occupancy grid). One struct; keys `dense.*` in a run configuration.
+// OctoMaps, 2D occupancy grid), at the end of a run and while it runs. One struct; keys
+// `dense.*` in a run configuration.
 #pragma once
 
 #include <optional>
@@ -49,6 +50,14 @@ struct DenseOptions {
   /// the base at the first keyframe, x its forward direction, and the floor search takes
   /// the base's z as its prior up (dense/floor_plane.h).
   std::optional<SE3> T_base_cam;
+  // --- maps while running (plslam run, plslam live, the ROS node; session/live_maps.h) ---
+  // An update is due once live_every_keyframes keyframes were mapped since the last one,
+  // or live_every_s seconds after it when at least one keyframe (or a loop correction)
+  // came meanwhile. Both 0: no maps before the end.
+  int live_every_keyframes = 10;      ///< update after this many new keyframes (0 = not by count)
+  double live_every_s = 5.0;          ///< update this long after the last one, if anything is new (s; 0 = not by time)
+
+  bool liveMaps() const { return enabled && (live_every_keyframes > 0 || live_every_s > 0); }
 };
 
 /// Throws ConfigError naming the field when an option is out of range.

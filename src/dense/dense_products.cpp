@@ -85,6 +85,8 @@ void validateDenseOptions(const DenseOptions& o) {
   need(o.grid_resolution_m >= 0.005 && o.grid_resolution_m <= 10, "grid_resolution_m", "must be in [0.005, 10]");
   need(o.grid_free_thresh > 0 && o.grid_free_thresh < o.grid_occupied_thresh && o.grid_occupied_thresh < 1,
        "grid_occupied_thresh", "need 0 < grid_free_thresh < grid_occupied_thresh < 1");
+  need(o.live_every_keyframes >= 0, "live_every_keyframes", "must be >= 0 (0: not by count)");
+  need(o.live_every_s >= 0, "live_every_s", "must be >= 0 (0: not by time)");
 }
 
 DenseProducts buildDenseProducts(const Map& map, const PinholeCamera& camera, const DenseOptions& o,

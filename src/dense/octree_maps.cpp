@@ -29,15 +29,7 @@ bool insertKeyframes(Tree* tree, const Map& map, const DenseOptions& o, const ch
   const size_t total = map.keyframes().size();
   size_t done = 0;
   for (const auto& [id, kf] : map.keyframes()) {
-    if (!kf.dense.empty()) {
-      octomap::Pointcloud scan;
-      scan.reserve(kf.dense.size());
-      for (const Eigen::Vector3f& p : worldPoints(kf, T_out_w)) scan.push_back(p.x(), p.y(), p.z());
-      const Eigen::Vector3d c = T_out_w * kf.T_w_c.translation();
-      // discretize: one ray per end voxel, not per point (the clouds are denser than the tree).
-      tree->insertPointCloud(scan, octomap::point3d(c.x(), c.y(), c.z()), o.max_range_m > 0 ? o.max_range_m : -1.0,
-                             /*lazy_eval=*/true, /*discretize=*/true);
-    }
+    insertKeyframeScan(tree, kf.dense, T_out_w * kf.T_w_c, o);
     if (progress && !progress(stage, ++done, total)) return false;
   }
   tree->updateInnerOccupancy();
@@ -46,10 +38,32 @@ bool insertKeyframes(Tree* tree, const Map& map, const DenseOptions& o, const ch
 
 }  // namespace
 
-std::shared_ptr<octomap::OcTree> buildOctree(const Map& map, const DenseOptions& o, const DenseProgress& progress,
-                                             bool* cancelled, const SE3& T_out_w) {
+template <typename Tree>
+void insertKeyframeScan(Tree* tree, const std::vector<DensePoint>& cloud_c, const SE3& T_out_c, const DenseOptions& o) {
+  if (cloud_c.empty()) return;
+  const Eigen::Matrix3f R = T_out_c.rotation().cast<float>();
+  const Eigen::Vector3f t = T_out_c.translation().cast<float>();
+  octomap::Pointcloud scan;
+  scan.reserve(cloud_c.size());
+  for (const DensePoint& d : cloud_c) {
+    const Eigen::Vector3f p = R * d.p_c + t;
+    scan.push_back(p.x(), p.y(), p.z());
+  }
+  // discretize: one ray per end voxel, not per point (the clouds are denser than the tree).
+  tree->insertPointCloud(scan, octomap::point3d(t.x(), t.y(), t.z()), o.max_range_m > 0 ? o.max_range_m : -1.0,
+                         /*lazy_eval=*/true, /*discretize=*/true);
+}
+template void insertKeyframeScan(octomap::OcTree*, const std::vector<DensePoint>&, const SE3&, const DenseOptions&);
+
+std::shared_ptr<octomap::OcTree> makeOctree(const DenseOptions& o) {
   auto tree = std::make_shared<octomap::OcTree>(o.octree_resolution_m);
   configure(tree.get(), o);
+  return tree;
+}
+
+std::shared_ptr<octomap::OcTree> buildOctree(const Map& map, const DenseOptions& o, const DenseProgress& progress,
+                                             bool* cancelled, const SE3& T_out_w) {
+  auto tree = makeOctree(o);
   const bool complete = insertKeyframes(tree.get(), map, o, "octomap", progress, T_out_w);
   if (cancelled) *cancelled = !complete;
   tree->prune();

@@ -39,6 +39,16 @@ namespace plslam {
 std::shared_ptr<octomap::OcTree> buildOctree(const Map& map, const DenseOptions& options,
                                              const DenseProgress& progress = {}, bool* cancelled = nullptr,
                                              const SE3& T_out_w = SE3());
+/// An empty occupancy octree with the options' resolution and probabilities.
+std::shared_ptr<octomap::OcTree> makeOctree(const DenseOptions& options);
+/// Inserts one keyframe's camera-frame cloud as a scan from its camera centre (the
+/// keyframe's pose in the tree's frame: T_out_c), rays cut at max_range_m, lazily: call
+/// tree->updateInnerOccupancy() after a batch. Instantiated for octomap::OcTree. Nothing for
+/// an empty cloud.
+template <typename Tree>
+void insertKeyframeScan(Tree* tree, const std::vector<DensePoint>& cloud_c, const SE3& T_out_c,
+                        const DenseOptions& options);
+
 /// The occupancy of `occupancy` in a ColorOcTree, occupied voxels coloured from `fused`
 /// (see above).
 std::shared_ptr<octomap::ColorOcTree> buildSemanticOctree(const octomap::OcTree& occupancy,

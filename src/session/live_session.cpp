@@ -31,6 +31,8 @@ LiveSession::LiveSession(const PinholeCamera& camera, RunConfig config, SessionO
       map_frame_keyframes_(options.map_frame_keyframes) {
   // A saved map keeps its own frame, so that its sessions share one map frame.
   if (config.map && config.map->frame) map_frame_ = config.map->frame;
+  corrections_seen_ = system_.map().corrections();  // a loaded map's own corrections are no news
+  if (options.live_maps) maps_ = makeLiveMaps(&system_, options.maps_dir, map_frame_ ? &*map_frame_ : nullptr);
 }
 
 LiveSession::~LiveSession() {
@@ -42,7 +44,9 @@ LiveSession::~LiveSession() {
 void LiveSession::start() {
   if (started_) throw Error("LiveSession::start called twice");
   started_ = true;
+  if (maps_) maps_->setListener(maps_listener_);
   system_.start();
+  if (maps_) maps_->start();
   thread_ = std::thread([this] { slamLoop(); });
 }
 
@@ -61,18 +65,7 @@ void LiveSession::slamLoop() {
         const auto t0 = std::chrono::steady_clock::now();
         const TrackingResult r = system_.feed(*frame);
         out.tracking_ms = msSince(t0);
-        out.t_ns = frame->t_ns;
-        out.status = r.status;
-        out.reason = r.reason;
-        out.tracked = isTracked(r.status);
-        out.T_w_c = r.T_w_c;
-        keyframes_ += r.new_keyframe;
-        out.keyframes = keyframes_;
-        if (!mapFrame() && keyframes_ >= map_frame_keyframes_) fixMapFrame();
-        if (const auto fixed = mapFrame()) {
-          out.map_frame_fixed = true;
-          out.T_map_world = fixed->T_map_world;
-        }
+        describe(*frame, r, &out);
       }
       ++processed_;
       tracked_ += out.tracked;
@@ -98,6 +91,28 @@ MapFrame LiveSession::fixMapFrame() {
   std::lock_guard<std::mutex> lock(frame_mutex_);
   map_frame_ = frame;
   return frame;
+void LiveSession::describe(const RgbdFrame& frame, const TrackingResult& r, FrameOutcome* out) {
+  out->t_ns = frame.t_ns;
+  out->status = r.status;
+  out->reason = r.reason;
+  out->tracked = isTracked(r.status);
+  out->T_w_c = r.T_w_c;
+  keyframes_ += r.new_keyframe;
+  out->keyframes = keyframes_;
+  if (!mapFrame() && keyframes_ >= map_frame_keyframes_) fixMapFrame();
+  if (const auto fixed = mapFrame()) {
+    out->map_frame_fixed = true;
+    out->T_map_world = fixed->T_map_world;
+  }
+  uint64_t corrections = 0;
+  {
+    std::lock_guard<std::mutex> lock(system_.map().mutex());
+    corrections = system_.map().corrections();
+  }
+  if (corrections == corrections_seen_) return;
+  corrections_seen_ = corrections;
+  // Between two frames on the feeding thread: the records are this thread's, the map locked.
+  out->revised = std::make_shared<const Trajectory>(system_.trajectory());
 }
 
 void LiveSession::save(const std::string& dir, const std::string& stats_extra) {
@@ -121,6 +136,8 @@ void LiveSession::stop() {
   queue_.close();
   thread_.join();
   if (failure_) std::rethrow_exception(failure_);
+  // No map update races the end: the final products are built from the final poses.
+  if (maps_) maps_->stop();
   system_.finish();
   const SessionCounts c = counts();
   kLog.info(str("received ", c.received, ", processed ", c.processed, ", dropped ", c.dropped, ", tracked ",
@@ -129,18 +146,20 @@ void LiveSession::stop() {
 
 void LiveSession::writeOutputs(const std::string& dir, const std::string& stats_extra, bool dense) {
   if (!stopped_) throw Error("LiveSession::writeOutputs before stop()");
+  std::string extra = stats_extra;
+  if (maps_) extra += (extra.empty() ? "" : ", ") + liveMapsStatsJson(maps_->stats());
   // The dense products first: the floor of their cloud gives the map frame of every output,
   // as in plslam run (without them the run outputs find the floor in the sparse map).
   // A fixed map frame (the one published) is kept for every output.
   const DenseOptions& dopt = system_.options().dense;
   const std::optional<MapFrame> fixed = mapFrame();
   if (!dense || !dopt.enabled) {
-    writeRunOutputs(dir, system_, config_yaml_, stats_extra, "", fixed ? &*fixed : nullptr);
+    writeRunOutputs(dir, system_, config_yaml_, extra, "", fixed ? &*fixed : nullptr);
     return;
   }
   const DenseProducts products = buildDenseProducts(system_.map(), system_.camera(), dopt, {}, {}, fixed ? &*fixed : nullptr);
   writeDenseProducts(dir, products, {}, dopt);
-  writeRunOutputs(dir, system_, config_yaml_, stats_extra, "", &products.frame);
+  writeRunOutputs(dir, system_, config_yaml_, extra, "", &products.frame);
 }
 
 }  // namespace plslam

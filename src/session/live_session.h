@@ -2,8 +2,11 @@
 // pull them (the ROS node's subscriber callbacks; a ROS 2 node would use it the same way).
 // It owns the System, a small queue in front of it, and the SLAM thread that pops and
 // tracks; it reports each frame's outcome to a listener, gives snapshots of the sparse map,
-// and writes the outputs of `plslam run` (run_outputs.h, the dense products) on request
-// or at the end. Nothing here knows about any middleware.
+// keeps the dense maps up to date while it runs (session/live_maps.h: every
+// dense.live_every_keyframes keyframes or dense.live_every_s seconds, written into
+// SessionOptions::maps_dir and handed to a maps listener), and writes the outputs of
+// `plslam run` (run_outputs.h, the dense products) on request or at the end. Nothing here
+// knows about any middleware.
 //
 // The queue drops the oldest waiting frame when tracking falls behind (counted), so
 // tracking works on a recent frame; with drop_frames = false push() waits instead, which
@@ -17,12 +20,14 @@
 //
 // Thread safety: push(), save(), sparseMap(), mapFrame() and counts() may be called from any thread,
 // concurrently with the SLAM thread; start(), stop() and writeOutputs() from one owner
-// thread. The listener runs on the SLAM thread: keep it short (publish, do not compute).
+// thread. The frame listener runs on the SLAM thread, the maps listener on the maps
+// thread: keep them short (publish, do not compute).
 #pragma once
 
 #include <Eigen/Core>
 #include <atomic>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -33,6 +38,8 @@
 #include "core/bounded_queue.h"
 #include "core/frame.h"
 #include "core/map_frame.h"
+#include "core/trajectory.h"
+#include "session/live_maps.h"
 #include "session/run_config.h"
 #include "system/system.h"
 
@@ -42,6 +49,8 @@ struct SessionOptions {
   int queue = 2;            ///< frames waiting for tracking; beyond it the oldest is dropped
   bool drop_frames = true;  ///< false: push() waits for tracking instead of dropping
   int map_frame_keyframes = 5;  ///< the map frame is fixed from the map points after this many keyframes
+  bool live_maps = true;    ///< maps while running (also needs dense.enabled and a dense.live_every_* > 0)
+  std::string maps_dir;     ///< where the maps while running are written (empty: not written, only listened to)
 };
 
 /// One tracked (or not) frame, as the listener sees it.
@@ -55,6 +64,10 @@ struct FrameOutcome {
   double tracking_ms = 0;    ///< System::feed time of this frame
   bool map_frame_fixed = false;  ///< T_map_world is the session's fixed map frame (else none yet)
   SE3 T_map_world;           ///< the map frame of the outputs, when map_frame_fixed
+  /// Set on the first frame after a loop correction changed the map (Map::corrections()):
+  /// every tracked frame's pose so far, corrected (SLAM world), so that a path drawn from
+  /// the earlier outcomes can be redrawn.
+  std::shared_ptr<const Trajectory> revised;
 };
 
 struct SessionCounts {
@@ -82,7 +95,10 @@ class LiveSession {
 
   /// Called with each frame's outcome on the SLAM thread. Set before start().
   void setFrameListener(std::function<void(const FrameOutcome&)> listener) { listener_ = std::move(listener); }
-  /// Starts the System and the SLAM thread.
+  /// Called after each update of the maps while running, on the maps thread (never when
+  /// dense.enabled is false or both dense.live_every_* are 0). Set before start().
+  void setMapsListener(std::function<void(const LiveMapsUpdate&)> listener) { maps_listener_ = std::move(listener); }
+  /// Starts the System, the SLAM thread and the maps thread.
   void start();
   /// Hands a frame to the SLAM thread. False once stopped (the frame is not used).
   bool push(RgbdFrame frame);
@@ -98,18 +114,25 @@ class LiveSession {
   /// Ends the stream: the waiting frames are tracked, then the System finishes. Rethrows a
   /// failure of the SLAM thread. Calling it again does nothing.
   void stop();
-  /// After stop(): the run outputs and, when `dense` and the options allow, the dense products.
+  /// After stop(): the run outputs and, when `dense` and the options allow, the dense products,
+  /// in the session's map frame (fixed now if it was not yet).
   void writeOutputs(const std::string& dir, const std::string& stats_extra, bool dense);
 
   const System& system() const { return system_; }
+  /// The maps while running (null when off).
+  const LiveMaps* liveMaps() const { return maps_.get(); }
 
  private:
   void slamLoop();
   /// Fixes the map frame from the map points when it is not fixed yet. Call between frames
   /// (feed_mutex_ held). Returns it.
   MapFrame fixMapFrame();
+  /// Fills `out` from one fed frame; the revised trajectory after a loop correction.
+  void describe(const RgbdFrame& frame, const TrackingResult& r, FrameOutcome* out);
 
   System system_;
+  std::unique_ptr<LiveMaps> maps_;        // after system_: stopped before the System goes
+  std::function<void(const LiveMapsUpdate&)> maps_listener_;
   std::string config_yaml_;
   BoundedQueue<RgbdFrame> queue_;
   std::function<void(const FrameOutcome&)> listener_;
@@ -121,6 +144,7 @@ class LiveSession {
   int map_frame_keyframes_;
   mutable std::mutex frame_mutex_;
   std::optional<MapFrame> map_frame_;  // under frame_mutex_
+  uint64_t corrections_seen_ = 0;  // SLAM thread: Map::corrections() when the last outcome was made
   bool started_ = false, stopped_ = false;
 };
 

@@ -132,6 +132,11 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
   t->bind("dense.grid_resolution_m", &dn.grid_resolution_m, "2D grid cell size (m)");
   t->bind("dense.grid_occupied_thresh", &dn.grid_occupied_thresh, "map YAML occupied_thresh");
   t->bind("dense.grid_free_thresh", &dn.grid_free_thresh, "map YAML free_thresh");
+  t->bind("dense.live_every_keyframes", &dn.live_every_keyframes,
+          "maps while running: update the dense products after this many new keyframes (0 = not by count)");
+  t->bind("dense.live_every_s", &dn.live_every_s,
+          "maps while running: update this many seconds after the last update when something is new "
+          "(0 = not by time; both 0 = only at the end)");
 
   t->bind("calibration.camera_to_base", &o->camera_to_base,
           "camera-to-base file of plslam calib base: the map frame's origin is then on the floor below the base, x its "

@@ -2,11 +2,13 @@
 // synthetic static sequence published as RealSense topics at 30 Hz, restamped with the
 // publication time (so the node's latency is image stamp -> pose), and checks of the TF
 // tree, the poses (ATE against the scene's ground truth, next to `plslam run` threaded on
-// the same frames), the sparse map in the map frame, the save service and the outputs
+// the same frames), the sparse map, the dense cloud and the grid (maps while running) in
+// the map frame, the save service and the outputs
 // written on SIGINT. Prints the latency and drop figures that docs/RESULTS.md quotes;
 // PLSLAM_ROS_NODE_PARAMS (e.g. "_queue:=1") adds node parameters for such measurements.
 #include <gtest/gtest.h>
 #include <geometry_msgs/PoseStamped.h>
+#include <nav_msgs/OccupancyGrid.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <signal.h>
@@ -108,6 +110,22 @@ class CameraPlayer {
       cloud_frame = msg->header.frame_id;
       cloud_points = static_cast<size_t>(msg->width) * msg->height;
     });
+    dense_sub_ = nh_->subscribe<sensor_msgs::PointCloud2>("/plslam/dense_cloud", 1, [this](const auto& msg) {
+      std::lock_guard<std::mutex> lock(mutex);
+      ++dense_messages;
+      dense_frame = msg->header.frame_id;
+      dense_points = static_cast<size_t>(msg->width) * msg->height;
+      dense_label_field = false;
+      for (const sensor_msgs::PointField& f : msg->fields)
+        dense_label_field |= f.name == "label" && f.datatype == sensor_msgs::PointField::UINT32;
+    });
+    grid_sub_ = nh_->subscribe<nav_msgs::OccupancyGrid>("/plslam/grid", 1, [this](const auto& msg) {
+      std::lock_guard<std::mutex> lock(mutex);
+      ++grid_messages;
+      grid_frame = msg->header.frame_id;
+      grid_cells = msg->data.size();
+      grid_occupied = static_cast<size_t>(std::count(msg->data.begin(), msg->data.end(), 100));
+    });
     colour_pub_ = nh_->advertise<sensor_msgs::Image>("/camera/color/image_raw", 5);
     depth_pub_ = nh_->advertise<sensor_msgs::Image>("/camera/aligned_depth_to_color/image_raw", 5);
     info_pub_ = nh_->advertise<sensor_msgs::CameraInfo>("/camera/color/camera_info", 1, true);
@@ -150,12 +168,16 @@ class CameraPlayer {
   geometry_msgs::PoseStamped last_base;
   std::string cloud_frame;
   size_t cloud_points = 0;
+  int dense_messages = 0, grid_messages = 0;  // the maps while running, as published
+  std::string dense_frame, grid_frame;
+  size_t dense_points = 0, grid_cells = 0, grid_occupied = 0;
+  bool dense_label_field = false;
 
  private:
   std::unique_ptr<ros::NodeHandle> nh_;
   std::unique_ptr<ros::AsyncSpinner> spinner_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
-  ros::Subscriber pose_sub_, base_sub_, cloud_sub_;
+  ros::Subscriber pose_sub_, base_sub_, cloud_sub_, dense_sub_, grid_sub_;
   ros::Publisher colour_pub_, depth_pub_, info_pub_;
 };
 
@@ -182,6 +204,18 @@ TEST(RosNode, PublishesPosesTfAndMapsAndWritesOutputs) {
     // How many frames the node keeps up with depends on the machine's load; it drops the
     // oldest rather than fall behind, so only a fair share is required here.
     EXPECT_GT(player.latency_ms.size(), kFrames / 5u);
+    // The maps while running (dense.live_every_s 5 s by default), before the node stops.
+    EXPECT_GE(player.dense_messages, 1);
+    EXPECT_EQ(player.dense_frame, "map");
+    EXPECT_GT(player.dense_points, 1000u);
+    EXPECT_TRUE(player.dense_label_field);
+    EXPECT_GE(player.grid_messages, 1);
+    EXPECT_EQ(player.grid_frame, "map");
+    EXPECT_GT(player.grid_cells, 0u);
+    EXPECT_GT(player.grid_occupied, 0u);
+    std::printf("[figures] node: %d dense cloud and %d grid messages while running; last cloud %zu points, grid %zu cells "
+                "(%zu occupied)\n", player.dense_messages, player.grid_messages, player.dense_points, player.grid_cells,
+                player.grid_occupied);
   }
   // The save service writes the outputs while the node runs; `plslam export` reads its map.
   std_srvs::Trigger save;

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <thread>
 
 #include "calibration/base_transform.h"
@@ -12,6 +13,7 @@
 #include "core/error.h"
 #include "io/dataset.h"
 #include "io/trajectory_file.h"
+#include "dense/dense_products.h"
 #include "session/live_session.h"
 #include "session/robot_frames.h"
 #include "support/test_support.h"
@@ -209,4 +211,128 @@ TEST(LiveSession, ReportedMapFrameIsTheOneOfTheWrittenFiles) {
   ASSERT_EQ(base.size(), cam.size());
   const SE3 expected = written.T_map_world * cam.back().T_w_c * mounting.T_b_c.inverse();
   EXPECT_LT((base.back().T_w_c.translation() - expected.translation()).norm(), 1e-4);
+}
+
+namespace {
+
+// The vertex count a PLY header declares (-1: none).
+long plyVertexCount(const std::string& path) {
+  const std::string text = test::readFile(path);
+  const size_t at = text.find("element vertex ");
+  return at == std::string::npos ? -1 : std::stol(text.substr(at + 15));
+}
+
+struct SeenUpdate {
+  int index = 0, keyframes = 0, processed = 0;
+  size_t cloud = 0;
+  long ply_vertices = -1;
+  int grid_occupied = -1;  ///< in grid.pgm/grid.yaml as read back (-1: unreadable)
+  bool refused = false;
+};
+
+}  // namespace
+
+TEST(LiveSession, MapsGrowAndAreReadableWhileTheRunGoesOn) {
+  constexpr int kFrames = 120;
+  const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, kFrames);
+  const PinholeCamera camera = loadCameraFile(folder + "/camera.xml");
+  const std::string scratch = test::scratchDir("session_live_maps");
+  const std::string config = scratch + "/config.yaml";
+  std::ofstream(config) << "dense:\n  live_every_keyframes: 2\n  live_every_s: 0\n";
+  RunSwitches s;
+  s.sequential = true;
+  s.config = config;
+  SessionOptions so;
+  so.drop_frames = false;
+  so.maps_dir = scratch + "/out";
+  LiveSession session(camera, makeRunConfig(s, "test"), so);
+  std::vector<SeenUpdate> seen;  // maps thread only until stop()
+  session.setMapsListener([&](const LiveMapsUpdate& u) {
+    SeenUpdate v;
+    v.index = u.index, v.keyframes = u.what.keyframes, v.cloud = u.cloud->size(), v.refused = u.what.refused;
+    v.processed = session.counts().processed;
+    // The files of this update are in place (the next one waits for this listener).
+    v.ply_vertices = plyVertexCount(so.maps_dir + "/" + kDenseCloudPly);
+    try {
+      v.grid_occupied = readGrid(so.maps_dir + "/" + kGridYaml).count(OccupancyGrid::kOccupied);
+    } catch (const std::exception&) {
+    }
+    seen.push_back(v);
+  });
+  session.start();
+  TumDataset dataset = TumDataset::open(folder, camera);
+  RgbdFrame frame;
+  while (dataset.next(&frame)) {
+    session.push(deepCopy(frame));
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));  // a camera's pace, roughly: the maps keep up
+  }
+  session.stop();
+
+  ASSERT_GE(seen.size(), 3u) << "keyframes: " << session.system().map().keyframes().size();
+  EXPECT_LT(seen.front().processed, kFrames) << "the first maps came while the run went on";
+  for (size_t i = 0; i < seen.size(); ++i) {
+    EXPECT_EQ(seen[i].index, static_cast<int>(i + 1));
+    EXPECT_EQ(seen[i].ply_vertices, static_cast<long>(seen[i].cloud)) << "update " << i + 1;
+    EXPECT_GT(seen[i].grid_occupied, 0) << "update " << i + 1;
+    if (i == 0) continue;
+    EXPECT_GT(seen[i].keyframes, seen[i - 1].keyframes) << "update " << i + 1;
+  }
+  EXPECT_GT(seen.back().cloud, seen.front().cloud);
+  ASSERT_NE(session.liveMaps(), nullptr);
+  EXPECT_EQ(session.liveMaps()->stats().updates, static_cast<int>(seen.size()));
+
+  // The final products are written in the frame the maps while running settled on.
+  const std::optional<MapFrame> settled = session.liveMaps()->settledFrame();
+  ASSERT_TRUE(settled.has_value()) << "the static scene's floor is found";
+  session.writeOutputs(scratch + "/final", "", true);
+  const MapFrame final_frame = parseMapFrameYaml(test::readFile(scratch + "/final/" + kMapFrameYaml), kMapFrameYaml);
+  EXPECT_LT((final_frame.T_map_world.translation() - settled->T_map_world.translation()).norm(), 1e-6);
+  EXPECT_NE(test::readFile(scratch + "/final/stats.json").find("\"live_map_updates\""), std::string::npos);
+}
+
+// After a loop correction the next outcome carries every tracked pose so far, corrected,
+// so that a front end can redraw its path (the ROS node's ~path).
+TEST(LiveSession, OutcomeAfterALoopCorrectionCarriesTheRevisedTrajectory) {
+  const std::string folder = test::syntheticSequence(synth::SceneKind::kLoop, 450);
+  const PinholeCamera camera = loadCameraFile(folder + "/camera.xml");
+  const std::string config = test::scratchDir("session_revised") + "/config.yaml";
+  std::ofstream(config) << "dense:\n  enabled: false\n";  // not needed here: quicker
+  RunSwitches s;
+  s.sequential = true;
+  s.config = config;
+  SessionOptions so;
+  so.drop_frames = false;
+  LiveSession session(camera, makeRunConfig(s, "test"), so);
+  std::vector<FrameOutcome> outcomes;
+  session.setFrameListener([&](const FrameOutcome& f) { outcomes.push_back(f); });
+  session.start();
+  TumDataset dataset = TumDataset::open(folder, camera);
+  RgbdFrame frame;
+  while (dataset.next(&frame)) session.push(deepCopy(frame));
+  session.stop();
+
+  ASSERT_GE(session.system().map().corrections(), 1u) << "the loop scene closes its loop";
+  size_t first = outcomes.size();
+  int revisions = 0, tracked = 0;
+  for (size_t i = 0; i < outcomes.size(); ++i) {
+    tracked += outcomes[i].tracked;
+    if (!outcomes[i].revised) continue;
+    ++revisions;
+    if (first == outcomes.size()) first = i;
+    EXPECT_EQ(outcomes[i].revised->size(), static_cast<size_t>(tracked)) << "every tracked frame so far, at " << i;
+  }
+  // One revision per frame that followed corrections (a loop may count several; the end's
+  // finish() may add one no frame followed).
+  EXPECT_GE(revisions, 1);
+  EXPECT_LE(revisions, static_cast<int>(session.system().map().corrections()));
+  ASSERT_LT(first, outcomes.size());
+  // The revised poses are the corrected ones: they moved from what the outcomes said.
+  const Trajectory& revised = *outcomes[first].revised;
+  std::map<TimeNs, SE3> told;
+  for (size_t i = 0; i < first; ++i)
+    if (outcomes[i].tracked) told[outcomes[i].t_ns] = outcomes[i].T_w_c;
+  double moved = 0;
+  for (const StampedPose& p : revised)
+    if (told.count(p.t_ns)) moved = std::max(moved, (told[p.t_ns].translation() - p.T_w_c.translation()).norm());
+  EXPECT_GT(moved, 1e-3);
 }

@@ -5,6 +5,8 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <thread>
@@ -67,6 +69,35 @@ TEST(RunCli, RunAndExportShareTheMapFrame) {
   EXPECT_EQ(test::readFile(scratch + "/exp/map_frame.yaml"), frame);
   ASSERT_EQ(test::runPlslam(runArgs(data, scratch + "/sparse") + " --sequential --quiet --no-dense").status, 0);
   EXPECT_NE(test::readFile(scratch + "/sparse/map_frame.yaml").find("floor_source: sparse"), std::string::npos);
+}
+
+// The maps while running: updated during the run (dense.live_every_*), counted in
+// stats.json; both keys 0 leave the dense products to the end.
+TEST(RunCli, MapsAreUpdatedWhileRunningUnlessBothPeriodsAreZero) {
+  const std::string scratch = test::scratchDir("runcli_live_maps");
+  const std::string data = syntheticFolder(scratch, 60);
+  const auto config = [&](const std::string& name, const char* text) {
+    FILE* f = std::fopen((scratch + "/" + name).c_str(), "w");
+    std::fputs(text, f);
+    std::fclose(f);
+    return scratch + "/" + name;
+  };
+  const std::string every = config("every.yaml", "dense:\n  live_every_keyframes: 1\n  live_every_s: 0\n");
+  const auto r = test::runPlslam(runArgs(data, scratch + "/on") + " --sequential --quiet --log-level info --config " + every);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("live maps: update 2 "), std::string::npos) << r.output;
+  const std::string stats = test::readFile(scratch + "/on/stats.json");
+  const size_t at = stats.find("\"live_map_updates\": ");
+  ASSERT_NE(at, std::string::npos) << stats;
+  EXPECT_GE(std::atoi(stats.c_str() + at + 20), 2) << stats;
+  EXPECT_TRUE(fs::exists(scratch + "/on/grid.yaml"));
+
+  const std::string off = config("off.yaml", "dense:\n  live_every_keyframes: 0\n  live_every_s: 0\n");
+  const auto r2 = test::runPlslam(runArgs(data, scratch + "/off") + " --sequential --quiet --log-level info --config " + off);
+  ASSERT_EQ(r2.status, 0) << r2.output;
+  EXPECT_EQ(r2.output.find("live maps: update"), std::string::npos) << r2.output;
+  EXPECT_EQ(test::readFile(scratch + "/off/stats.json").find("live_map_updates"), std::string::npos);
+  EXPECT_TRUE(fs::exists(scratch + "/off/grid.yaml")) << "the end still writes the products";
 }
 
 TEST(RunCli, BadConfigurationIsRefusedNamingTheKey) {

@@ -10,7 +10,9 @@
 #include "grabber_source.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "dense_cli.h"
 #include "live/live_loop.h"
+#include "session/live_maps.h"
 #include "run_session.h"
 #include "system/run_outputs.h"
 #include "system/system.h"
@@ -33,13 +35,16 @@ int runLiveCommand(int argc, char** argv) {
       .option("config", "YAML run options (as plslam run)")
       .flag("no-lines", "points only: no line features")
       .option("base", "camera-to-base file of plslam calib base (as plslam run --base)")
+      .flag("no-dense", "no dense products (cloud, OctoMaps, 2D grid), neither while running nor at the end")
       .option("fake", "testing: play this recorded TUM folder (with camera.xml) at camera rate instead of the camera")
       .option("fake-speed", "testing: playback speed of --fake (1 = its stamps, 0 = as fast as it is read)", "1")
       .option("log-level", "debug, info, warn, error or off", "warn")
       .flag("quiet", "no progress line")
       .epilog(
           "outputs: as plslam run (trajectory.txt, keyframes.txt, sparse_map.ply, stats.json with the live_* frame "
-          "counts, config.yaml).\nCtrl-C stops and still writes what there is.\n"
+          "counts, config.yaml,\nand unless --no-dense the dense products, updated while it runs every "
+          "dense.live_every_keyframes keyframes or\ndense.live_every_s seconds and written again at the end).\n"
+          "Ctrl-C stops and still writes what there is.\n"
           "Needs ViSP built with librealsense2; without it (Debian's ViSP) this prints why and exits with status 2.\n\n"
           "example: plslam live --out maps/office --record recordings/office --duration 60");
   if (!args.parse(argc, argv)) return 0;
@@ -71,8 +76,12 @@ int runLiveCommand(int argc, char** argv) {
   PinholeCamera recording = camera;
   recording.depth_scale = device.depth_scale;
 
+  const std::string out = args.str("out");
   System slam(camera, options);
+  const bool dense = !args.has("no-dense") && options.dense.enabled;
+  std::unique_ptr<LiveMaps> maps = dense ? makeLiveMaps(&slam, out) : nullptr;
   slam.start();
+  if (maps) maps->start();
   const bool progress = !args.has("quiet");
   LiveStats stats;
   {
@@ -89,9 +98,16 @@ int runLiveCommand(int argc, char** argv) {
     line.done();
   }
   grabber->close();
+  if (maps) maps->stop();
   slam.finish();
-  const std::string out = args.str("out");
-  writeRunOutputs(out, slam, config.config_yaml, liveStatsJson(stats));
+  // The final products in the frame the maps while running settled on (as plslam run).
+  std::optional<MapFrame> frame = maps ? maps->settledFrame() : std::nullopt;
+  std::string stats_extra = liveStatsJson(stats);
+  if (maps) stats_extra += ", " + liveMapsStatsJson(maps->stats());
+  if (dense && !slam.map().keyframes().empty())
+    writeDenseMaps(slam.map(), camera, options.dense, {}, out, progress, frame ? &*frame : nullptr, &frame);
+  writeRunOutputs(out, slam, config.config_yaml, stats_extra, "",
+                  frame ? &*frame : nullptr);
 
   const RunStats st = slam.stats();
   const Summary tms = summarize(st.tracking_ms);

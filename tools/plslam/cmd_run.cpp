@@ -16,6 +16,7 @@
 #include "frame_source_open.h"
 #include "io/dataset.h"
 #include "run_session.h"
+#include "session/live_maps.h"
 #include "session/run_config.h"
 #include "system/run_outputs.h"
 #include "system/system.h"
@@ -43,7 +44,7 @@ Args runArguments() {
       .flag("allow-missing-model", "if the model cannot be used, warn and go on with the geometric checks only")
       .flag("no-dynamic", "no rejection of moving objects at all")
       .flag("no-loop", "no loop closure")
-      .flag("no-dense", "do not write the dense products (cloud, OctoMaps, 2D grid) at the end")
+      .flag("no-dense", "do not write the dense products (cloud, OctoMaps, 2D grid), neither while running nor at the end")
       .flag("print-config", "print the effective configuration and exit")
       .option("log-level", "debug, info, warn, error or off", "warn")
       .flag("quiet", "no progress line")
@@ -57,7 +58,8 @@ Args runArguments() {
           "map frame), keyframes.txt, map_frame.yaml, sparse_map.ply, stats.json, config.yaml,\n"
           "map.plmap (the map, for --map; written atomically, also after Ctrl-C)\n"
           "and the dense products (unless --no-dense; see plslam export): dense_cloud.pcd, dense_cloud_semantic.ply,\n"
-          "octomap.bt, octomap_semantic.ot, grid.pgm + grid.yaml, dense_products.json\n"
+          "octomap.bt, octomap_semantic.ot, grid.pgm + grid.yaml, dense_products.json; these are also updated while\n"
+          "the run goes on, every dense.live_every_keyframes keyframes or dense.live_every_s seconds (see --print-config)\n"
           "Every world-frame output but trajectory.txt and keyframes.txt is in the map frame (z up, x forward,\n"
           "origin on the floor below the first camera, or below the base with --base; map_frame.yaml holds T_map_world).\n"
           "With --base (or calibration.camera_to_base), trajectory_base.txt holds the base's poses in the map frame.\n"
@@ -162,7 +164,12 @@ int runRun(int argc, char** argv) {
   }
 
   System slam(camera, options, config.map ? std::move(config.map->map) : Map());
+  // Maps while running: written into the output folder as the run goes (session/live_maps.h).
+  std::optional<MapFrame> frame = config.map ? config.map->frame : std::nullopt;
+  const bool dense = !args.has("no-dense") && options.dense.enabled;
+  std::unique_ptr<LiveMaps> maps = dense ? makeLiveMaps(&slam, out, frame ? &*frame : nullptr) : nullptr;
   slam.start();
+  if (maps) maps->start();
   const bool progress = !args.has("quiet");
   FeedResult fed;
   {
@@ -176,6 +183,7 @@ int runRun(int argc, char** argv) {
     line.done();
   }
   if (fed.interrupted) std::fprintf(stderr, "[run] interrupted: finishing and writing what there is\n");
+  if (maps) maps->stop();
   slam.finish();
   const std::string skipped = dataset.skippedText();
   // A run that tracked nothing has no result: say why and leave the output folder as it was.
@@ -194,12 +202,14 @@ int runRun(int argc, char** argv) {
   const RunEvaluation evaluation = evaluateRun(dataset, slam.trajectory());
   const std::string ate_line = evaluation.text();
   // The dense products first: the floor of their cloud gives the map frame of every output
-  // (a loaded map keeps its own, so that its sessions share one map frame).
-  std::optional<MapFrame> frame = config.map ? config.map->frame : std::nullopt;
-  const bool dense = !args.has("no-dense") && options.dense.enabled;
+  // (a loaded map keeps its own, so that its sessions share one map frame; the maps while
+  // running keep the one they settled on, so that the final products line up with them).
+  if (maps && !frame) frame = maps->settledFrame();
+  std::string stats_extra = runStatsExtra(dataset, evaluation);
+  if (maps) stats_extra += ", " + liveMapsStatsJson(maps->stats());
   const bool dense_done = !dense || writeDenseMaps(slam.map(), camera, options.dense, {}, out, progress,
                                                    frame ? &*frame : nullptr, &frame);
-  writeRunOutputs(out, slam, config.config_yaml, runStatsExtra(dataset, evaluation),
+  writeRunOutputs(out, slam, config.config_yaml, stats_extra,
                   args.has("save-map") ? args.str("save-map") : std::string(), frame ? &*frame : nullptr);
 
   printSummary(slam.stats(), dataset, ate_line, out);

@@ -3,6 +3,7 @@
 #include <sensor_msgs/point_cloud2_iterator.h>
 
 #include <cstdio>
+#include <cstring>
 
 namespace plslam::ros1 {
 
@@ -72,6 +73,44 @@ visualization_msgs::Marker linesMessage(const SparseMapSnapshot& map, const SE3&
     }
   }
   return m;
+}
+
+sensor_msgs::PointCloud2 denseCloudMessage(const std::vector<FusedPoint>& cloud, const SE3& T_pub_map,
+                                           const std_msgs::Header& header) {
+  sensor_msgs::PointCloud2 msg;
+  msg.header = header;
+  sensor_msgs::PointCloud2Modifier modifier(msg);
+  modifier.setPointCloud2Fields(5, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1, sensor_msgs::PointField::FLOAT32,
+                                "z", 1, sensor_msgs::PointField::FLOAT32, "rgb", 1, sensor_msgs::PointField::FLOAT32,
+                                "label", 1, sensor_msgs::PointField::UINT32);
+  modifier.resize(cloud.size());
+  sensor_msgs::PointCloud2Iterator<float> x(msg, "x"), rgb(msg, "rgb");
+  sensor_msgs::PointCloud2Iterator<uint32_t> label(msg, "label");
+  const Eigen::Matrix3f R = T_pub_map.rotation().cast<float>();
+  const Eigen::Vector3f t = T_pub_map.translation().cast<float>();
+  for (const FusedPoint& p : cloud) {
+    const Eigen::Vector3f q = R * p.p_w + t;
+    x[0] = q.x(), x[1] = q.y(), x[2] = q.z();
+    const Rgb c = semanticColour(p);
+    const uint32_t packed = (uint32_t(c.r) << 16) | (uint32_t(c.g) << 8) | uint32_t(c.b);
+    std::memcpy(&*rgb, &packed, 4);
+    *label = static_cast<uint32_t>(p.class_id + 1);
+    ++x, ++rgb, ++label;
+  }
+  return msg;
+}
+
+nav_msgs::OccupancyGrid gridMessage(const OccupancyGrid& grid, const SE3& T_pub_map, const std_msgs::Header& header) {
+  nav_msgs::OccupancyGrid msg;
+  msg.header = header;
+  msg.info.map_load_time = header.stamp;
+  msg.info.resolution = static_cast<float>(grid.resolution);
+  msg.info.width = static_cast<uint32_t>(grid.width);
+  msg.info.height = static_cast<uint32_t>(grid.height);
+  const SE3 T_map_origin(Eigen::Quaterniond::Identity(), Eigen::Vector3d(grid.origin.x(), grid.origin.y(), 0));
+  msg.info.origin = toPose(T_pub_map * T_map_origin);
+  msg.data.assign(grid.cells.begin(), grid.cells.end());
+  return msg;
 }
 
 diagnostic_msgs::DiagnosticArray statusMessage(const FrameOutcome& frame, const SessionCounts& counts,

@@ -50,6 +50,8 @@ NodeSettings NodeSettings::fromParameters(const ros::NodeHandle& pnh) {
   s.sparse_period_s = param(pnh, "sparse_period", s.sparse_period_s);
   s.publish_tf = param(pnh, "publish_tf", true);
   s.dense = !param(pnh, "no_dense", false);
+  s.session.live_maps = s.dense;
+  s.session.maps_dir = s.out;
   if (s.session.queue < 1 || s.sync_queue < 1 || s.sparse_period_s <= 0 || s.session.map_frame_keyframes < 1)
     throw ConfigError("plslam_ros: queue, sync_queue and map_frame_keyframes must be >= 1, sparse_period > 0");
   return s;
@@ -63,6 +65,8 @@ RosNode::RosNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeSettings settings)
   points_pub_ = pnh_.advertise<sensor_msgs::PointCloud2>("sparse_points", 1, true);
   lines_pub_ = pnh_.advertise<visualization_msgs::Marker>("sparse_lines", 1, true);
   status_pub_ = pnh_.advertise<diagnostic_msgs::DiagnosticArray>("status", 10);
+  dense_cloud_pub_ = pnh_.advertise<sensor_msgs::PointCloud2>("dense_cloud", 1, true);
+  grid_pub_ = pnh_.advertise<nav_msgs::OccupancyGrid>("grid", 1, true);
   save_srv_ = pnh_.advertiseService("save_map", &RosNode::onSave, this);
   sparse_timer_ = nh_.createWallTimer(ros::WallDuration(settings_.sparse_period_s), &RosNode::onSparseTimer, this);
   path_.header.frame_id = settings_.map_frame;
@@ -91,6 +95,7 @@ void RosNode::startSession(const PinholeCamera& camera) {
   if (config.options.dense.T_base_cam) frames_ = RobotFrames(*config.options.dense.T_base_cam);
   auto session = std::make_unique<LiveSession>(camera, std::move(config), settings_.session);
   session->setFrameListener([this](const FrameOutcome& f) { onFrame(f); });
+  session->setMapsListener([this](const LiveMapsUpdate& u) { onMaps(u); });
   session->start();
   std::lock_guard<std::mutex> lock(session_mutex_);
   session_ = std::move(session);
@@ -148,8 +153,22 @@ void RosNode::onFrame(const FrameOutcome& frame) {
   pose.pose = toPose(T_map_base);
   base_pose_pub_.publish(pose);
   path_.header.stamp = header.stamp;
-  path_.poses.push_back(pose);
+  // After a loop correction the whole path is redrawn from the corrected poses (this
+  // frame's included); otherwise it grows by this pose.
+  if (frame.revised) revisePath(*frame.revised);
+  else path_.poses.push_back(pose);
   path_pub_.publish(path_);
+}
+
+void RosNode::revisePath(const Trajectory& corrected) {
+  path_.poses.clear();
+  geometry_msgs::PoseStamped pose;
+  pose.header.frame_id = settings_.map_frame;
+  for (const StampedPose& p : corrected) {
+    pose.header.stamp = toRosTime(p.t_ns);
+    pose.pose = toPose(frames_.T_map_base(p.T_w_c));
+    path_.poses.push_back(pose);
+  }
 }
 
 void RosNode::publishTransform(const SE3& T_map_base, const std_msgs::Header& header) {
@@ -185,6 +204,22 @@ void RosNode::onSparseTimer(const ros::WallTimerEvent&) {
   const SE3 T_map_world = frame ? frame->T_map_world : frames_.provisionalMapFrame();
   points_pub_.publish(pointsMessage(map, T_map_world, header));
   lines_pub_.publish(linesMessage(map, T_map_world, header));
+}
+
+void RosNode::onMaps(const LiveMapsUpdate& update) {
+  std_msgs::Header header;
+  header.stamp = ros::Time::now();
+  header.frame_id = settings_.map_frame;
+  // The products are in the maps' own floor-based frame (core/map_frame.h), which may not be
+  // the session's yet; they are published in the node's map frame, the one of its TF and
+  // sparse map: the session's fixed frame, or the provisional one before it is fixed.
+  const LiveSession* s = session();
+  if (!s) return;  // the maps thread can report before the session is handed over
+  const std::optional<MapFrame> frame = s->mapFrame();
+  const SE3 T_map_world = frame ? frame->T_map_world : frames_.provisionalMapFrame();
+  const SE3 T_pub_map = T_map_world * update.frame.T_map_world.inverse();
+  dense_cloud_pub_.publish(denseCloudMessage(*update.cloud, T_pub_map, header));
+  if (update.grid->width > 0) grid_pub_.publish(gridMessage(*update.grid, T_pub_map, header));
 }
 
 std::string RosNode::statsExtra() const {

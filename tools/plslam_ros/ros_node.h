@@ -44,7 +44,7 @@ struct NodeSettings {
   int sync_queue = 10;             ///< message_filters queue size
   double sparse_period_s = 1.0;    ///< period of the sparse map topics
   bool publish_tf = true;
-  bool dense = true;               ///< dense products written at shutdown
+  bool dense = true;               ///< dense products while running (published, written to out) and at shutdown
 
   static NodeSettings fromParameters(const ros::NodeHandle& pnh);
 };
@@ -68,8 +68,10 @@ class RosNode {
   void onCameraInfo(const sensor_msgs::CameraInfoConstPtr& info);
   void onImages(const sensor_msgs::ImageConstPtr& colour, const sensor_msgs::ImageConstPtr& depth);
   void onFrame(const FrameOutcome& frame);
+  void revisePath(const Trajectory& corrected);  // SLAM thread
   void publishTransform(const SE3& T_map_base, const std_msgs::Header& header);
   void onSparseTimer(const ros::WallTimerEvent&);
+  void onMaps(const LiveMapsUpdate& update);
   bool onSave(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
   std::string statsExtra() const;
   LiveSession* session() const;
@@ -82,6 +84,7 @@ class RosNode {
   std::unique_ptr<ExactSync> exact_sync_;
   ros::Subscriber info_sub_;
   ros::Publisher camera_pose_pub_, base_pose_pub_, path_pub_, points_pub_, lines_pub_, status_pub_;
+  ros::Publisher dense_cloud_pub_, grid_pub_;
   ros::ServiceServer save_srv_;
   ros::WallTimer sparse_timer_;
   tf2_ros::Buffer tf_buffer_;
