@@ -12,11 +12,12 @@
 // tracking works on a recent frame; with drop_frames = false push() waits instead, which
 // with a sequential System makes a session reproducible from the same frames.
 //
-// The map frame (core/map_frame.h) is fixed once, from the floor of the map points after
-// the first map_frame_keyframes keyframes (or a saved map's own frame, or at the first
-// save()), and every output written afterwards (save(), writeOutputs(): map_frame.yaml,
-// trajectory_map.txt, trajectory_base.txt, the dense products) is in it, so that a front
-// end publishing poses in it (FrameOutcome::T_map_world) and the files agree.
+// The map frame (core/map_frame.h) is fixed once: a saved map's own frame; else the floor
+// the maps while running find in the dense cloud (when they run); else the floor of the map
+// points after the first map_frame_keyframes keyframes; at the latest at the first save().
+// Every output written afterwards (save(), writeOutputs(): map_frame.yaml, trajectory_map.txt,
+// trajectory_base.txt, the dense products) is in it, so that a front end publishing poses in
+// it (FrameOutcome::T_map_world) and the files agree.
 //
 // Thread safety: push(), save(), sparseMap(), mapFrame() and counts() may be called from any thread,
 // concurrently with the SLAM thread; start(), stop() and writeOutputs() from one owner
@@ -48,7 +49,7 @@ namespace plslam {
 struct SessionOptions {
   int queue = 2;            ///< frames waiting for tracking; beyond it the oldest is dropped
   bool drop_frames = true;  ///< false: push() waits for tracking instead of dropping
-  int map_frame_keyframes = 5;  ///< the map frame is fixed from the map points after this many keyframes
+  int map_frame_keyframes = 5;  ///< without maps while running: the map frame is fixed from the map points after this many keyframes
   bool live_maps = true;    ///< maps while running (also needs dense.enabled and a dense.live_every_* > 0)
   std::string maps_dir;     ///< where the maps while running are written (empty: not written, only listened to)
 };

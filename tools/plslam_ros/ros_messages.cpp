@@ -29,6 +29,12 @@ geometry_msgs::Transform toTransform(const SE3& T) {
   return t;
 }
 
+SE3 fromPose(const geometry_msgs::Pose& pose) {
+  const geometry_msgs::Quaternion& q = pose.orientation;
+  return SE3(Eigen::Quaterniond(q.w, q.x, q.y, q.z).normalized().toRotationMatrix(),
+             Eigen::Vector3d(pose.position.x, pose.position.y, pose.position.z));
+}
+
 SE3 fromTransform(const geometry_msgs::Transform& t) {
   return SE3(Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z),
              Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z));

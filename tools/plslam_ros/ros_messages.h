@@ -19,6 +19,7 @@
 namespace plslam::ros1 {
 
 geometry_msgs::Pose toPose(const SE3& T);
+SE3 fromPose(const geometry_msgs::Pose& pose);
 geometry_msgs::Transform toTransform(const SE3& T);
 SE3 fromTransform(const geometry_msgs::Transform& t);
 

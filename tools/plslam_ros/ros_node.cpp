@@ -155,18 +155,27 @@ void RosNode::onFrame(const FrameOutcome& frame) {
   path_.header.stamp = header.stamp;
   // After a loop correction the whole path is redrawn from the corrected poses (this
   // frame's included); otherwise it grows by this pose.
-  if (frame.revised) revisePath(*frame.revised);
-  else path_.poses.push_back(pose);
+  // When the map frame was fixed since the last pose, the path is redrawn in it too.
+  if (frame.revised) {
+    revisePath(*frame.revised, T_map_world);
+  } else {
+    if (!path_.poses.empty() && (path_T_map_world_.inverse() * T_map_world).log().norm() > 1e-12) {
+      const SE3 T_new_old = T_map_world * path_T_map_world_.inverse();
+      for (geometry_msgs::PoseStamped& p : path_.poses) p.pose = toPose(T_new_old * fromPose(p.pose));
+    }
+    path_.poses.push_back(pose);
+  }
+  path_T_map_world_ = T_map_world;
   path_pub_.publish(path_);
 }
 
-void RosNode::revisePath(const Trajectory& corrected) {
+void RosNode::revisePath(const Trajectory& corrected, const SE3& T_map_world) {
   path_.poses.clear();
   geometry_msgs::PoseStamped pose;
   pose.header.frame_id = settings_.map_frame;
   for (const StampedPose& p : corrected) {
     pose.header.stamp = toRosTime(p.t_ns);
-    pose.pose = toPose(frames_.T_map_base(p.T_w_c));
+    pose.pose = toPose(frames_.T_map_base(T_map_world, p.T_w_c));
     path_.poses.push_back(pose);
   }
 }

@@ -68,7 +68,7 @@ class RosNode {
   void onCameraInfo(const sensor_msgs::CameraInfoConstPtr& info);
   void onImages(const sensor_msgs::ImageConstPtr& colour, const sensor_msgs::ImageConstPtr& depth);
   void onFrame(const FrameOutcome& frame);
-  void revisePath(const Trajectory& corrected);  // SLAM thread
+  void revisePath(const Trajectory& corrected, const SE3& T_map_world);  // SLAM thread
   void publishTransform(const SE3& T_map_base, const std_msgs::Header& header);
   void onSparseTimer(const ros::WallTimerEvent&);
   void onMaps(const LiveMapsUpdate& update);
@@ -94,6 +94,7 @@ class RosNode {
   mutable std::mutex session_mutex_;
   std::unique_ptr<LiveSession> session_;
   nav_msgs::Path path_;                 // SLAM thread only
+  SE3 path_T_map_world_;                // SLAM thread: the map frame path_ is drawn in
   std::atomic<int> before_camera_{0};   // image pairs received before the camera was known
   std::atomic<int> unconvertible_{0};   // image pairs that could not be converted
   std::atomic<bool> finishing_{false};
