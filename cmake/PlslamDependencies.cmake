@@ -3,6 +3,7 @@ find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs features2d calib3d video line_descriptor ximgproc dnn)
 find_package(Threads REQUIRED)
 find_package(ZLIB REQUIRED)  # CRC-32 of the map and vocabulary files (core/crc32.h)
+find_package(pugixml REQUIRED)  # camera files (camera/camera_file.cpp)
 
 # find_package(VISP) rewrites CMAKE_CXX_FLAGS (it appends its own build flags): keep ours.
 set(_plslam_saved_cxx_flags "${CMAKE_CXX_FLAGS}")
