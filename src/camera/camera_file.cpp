@@ -36,7 +36,7 @@ struct XmlFile {
 void parseXml(XmlFile* file) {
   const pugi::xml_parse_result r = file->doc.load_buffer(file->content.data(), file->content.size(),
                                                          pugi::parse_default | pugi::parse_trim_pcdata);
-  if (!r) throw IoError(str(file->at(r.offset), ": not well-formed XML: ", r.description()));
+  if (!r) throw IoError(str(file->at(r.offset), ": malformed XML: ", r.description()));
 }
 
 double number(const XmlFile& file, const pugi::xml_node& parent, const char* key, bool required, double fallback) {

@@ -148,7 +148,7 @@ TEST(CameraFile, MissingFileIsRefusedNamingIt) {
 TEST(CameraFile, MalformedFilesAreRefusedWithTheProblem) {
   EXPECT_NO_THROW(parseCameraFile(kGood, "good.xml"));
   // XML errors are pugixml's descriptions, with the line.
-  expectRefused("", {"not well-formed XML", "No document element"});
+  expectRefused("", {"malformed XML", "No document element"});
   expectRefused("<root><camera>", {"bad.xml:1:", "mismatch"});
   expectRefused(replaced(kGood, "</model>", "</modelx>"), {"bad.xml:3:", "mismatch"});
   expectRefused(replaced(kGood, "<px>500</px>", "<px>5&bogus;00</px>"), {"bad.xml:3:", "not a number"});  // unknown entity: left as text
