@@ -4,6 +4,7 @@ find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs features2d cali
 find_package(Threads REQUIRED)
 find_package(ZLIB REQUIRED)  # CRC-32 of the map and vocabulary files (core/crc32.h)
 find_package(pugixml REQUIRED)  # camera files (camera/camera_file.cpp)
+find_package(nlohmann_json 3 REQUIRED)  # JSON outputs (core/json.h)
 find_package(yaml-cpp REQUIRED)  # configuration, grid.yaml and camera-to-base files (core/yaml.h)
 
 # find_package(VISP) rewrites CMAKE_CXX_FLAGS (it appends its own build flags): keep ours.

@@ -76,7 +76,7 @@ void LiveSession::slamLoop() {
   }
 }
 
-void LiveSession::save(const std::string& dir, const std::string& stats_extra) {
+void LiveSession::save(const std::string& dir, const Json& stats_extra) {
   std::lock_guard<std::mutex> lock(feed_mutex_);
   writeRunOutputs(dir, system_, config_yaml_, stats_extra);
 }
@@ -102,7 +102,7 @@ void LiveSession::stop() {
                 c.tracked));
 }
 
-void LiveSession::writeOutputs(const std::string& dir, const std::string& stats_extra, bool dense) {
+void LiveSession::writeOutputs(const std::string& dir, const Json& stats_extra, bool dense) {
   if (!stopped_) throw Error("LiveSession::writeOutputs before stop()");
   // The dense products first: the floor of their cloud gives the map frame of every output,
   // as in plslam run (without them the run outputs find the floor in the sparse map).

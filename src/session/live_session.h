@@ -25,6 +25,7 @@
 
 #include "core/bounded_queue.h"
 #include "core/frame.h"
+#include "core/json.h"
 #include "session/run_config.h"
 #include "system/system.h"
 
@@ -79,14 +80,14 @@ class LiveSession {
   /// map.plmap) into `dir` between two frames; the dense products are left to the end
   /// (they read the whole map without its lock: `plslam export` makes them from map.plmap).
   /// Throws what the writing throws.
-  void save(const std::string& dir, const std::string& stats_extra = "");
+  void save(const std::string& dir, const Json& stats_extra = nullptr);
   SparseMapSnapshot sparseMap() const { return sparseMapSnapshot(system_.map()); }
   SessionCounts counts() const;
   /// Ends the stream: the waiting frames are tracked, then the System finishes. Rethrows a
   /// failure of the SLAM thread. Calling it again does nothing.
   void stop();
   /// After stop(): the run outputs and, when `dense` and the options allow, the dense products.
-  void writeOutputs(const std::string& dir, const std::string& stats_extra, bool dense);
+  void writeOutputs(const std::string& dir, const Json& stats_extra, bool dense);
 
   const System& system() const { return system_; }
 

@@ -86,7 +86,7 @@ TEST(LiveSession, PushedFramesWithoutDropsTrackLikeTheSystem) {
   EXPECT_TRUE(outcomes.back().tracked);
 
   const std::string out = test::scratchDir("session") + "/out";
-  session.writeOutputs(out, "", false);
+  session.writeOutputs(out, nullptr, false);
   EXPECT_EQ(readTumTrajectory(out + "/trajectory.txt").size(), a.size());
   EXPECT_TRUE(std::filesystem::exists(out + "/map.plmap"));
 }

@@ -27,6 +27,7 @@
 #include <mutex>
 #include <string>
 
+#include "core/json.h"
 #include "session/live_session.h"
 #include "session/robot_frames.h"
 
@@ -71,7 +72,7 @@ class RosNode {
   void publishTransform(const SE3& T_map_base, const std_msgs::Header& header);
   void onSparseTimer(const ros::WallTimerEvent&);
   bool onSave(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
-  std::string statsExtra() const;
+  Json statsExtra() const;
   LiveSession* session() const;
 
   ros::NodeHandle nh_, pnh_;
