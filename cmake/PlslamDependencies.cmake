@@ -2,6 +2,10 @@
 find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs features2d calib3d video line_descriptor ximgproc dnn)
 find_package(Threads REQUIRED)
+find_package(ZLIB REQUIRED)  # CRC-32 of the map and vocabulary files (core/crc32.h)
+find_package(pugixml REQUIRED)  # camera files (camera/camera_file.cpp)
+find_package(nlohmann_json 3 REQUIRED)  # JSON outputs (core/json.h)
+find_package(yaml-cpp REQUIRED)  # configuration, grid.yaml and camera-to-base files (core/yaml.h)
 
 # find_package(VISP) rewrites CMAKE_CXX_FLAGS (it appends its own build flags): keep ours.
 set(_plslam_saved_cxx_flags "${CMAKE_CXX_FLAGS}")

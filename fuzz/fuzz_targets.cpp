@@ -7,7 +7,6 @@
 #include <fstream>
 
 #include "camera/camera_file.h"
-#include "camera/mini_xml.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "dynamic/class_list.h"
@@ -117,11 +116,6 @@ void cameraFile(const std::string& bytes) {
   (void)c.project(Eigen::Vector3d(0.1, -0.1, 1.0));
 }
 
-void miniXml(const std::string& bytes) {
-  const XmlNode root = parseXml(bytes, "fuzz.xml");
-  (void)root.child("camera");
-}
-
 void classList(const std::string& bytes) {
   const std::string path = scratch() + "/names.txt";
   writeFile(path, bytes);
@@ -160,7 +154,6 @@ void mapFile(const std::string& bytes) {
 const std::vector<Target>& targets() {
   static const std::vector<Target> list = {
       {"tum_list", tumList},       {"trajectory", trajectory}, {"camera_file", cameraFile},
-      {"mini_xml", miniXml},
 #ifdef PLSLAM_FUZZ_WITH_CONFIG
       {"config", config},
 #endif

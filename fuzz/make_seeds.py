@@ -42,12 +42,15 @@ put("trajectory", "odd_lines", "1.0 0 0 0 0 0 0 1\n1.0 1 1 1 0 0 0 1\nnan 0 0 0 
 calib = root.parent / "calib"
 for f in sorted(calib.glob("*.xml")):
     put("camera_file", f.stem, f.read_bytes())
-    put("mini_xml", f.stem, f.read_bytes())
 put("camera_file", "visp_with_distortion",
     "<?xml version=\"1.0\"?>\n<root><camera><name>c</name><image_width>640</image_width><image_height>480</image_height>"
     "<model><type>perspectiveProjWithDistortion</type><px>500</px><py>500</py><u0>320</u0><v0>240</v0><kud>0.1</kud><kdu>-0.1</kdu></model>"
     "</camera></root>\n")
-put("mini_xml", "features", "<?xml version='1.0'?><!DOCTYPE x><a b=\"1\" c='>'><!-- c --><b/>t&amp;&lt;<![CDATA[<raw>]]><?pi x?></a>")
+put("camera_file", "bom_references_doctype",
+    "\ufeff<?xml version='1.0'?><!DOCTYPE root><root a='>'><!-- c --><camera><name>a&amp;&lt;&#x3c;&#38;</name>"
+    "<image_width>&#54;40</image_width><image_height>480</image_height><?pi x?>"
+    "<model><type><![CDATA[perspectiveProjWithoutDistortion]]></type><px>500</px><py>500</py><u0>320</u0><v0>240</v0></model>"
+    "</camera></root>\n")
 
 # ---------------------------------------------------------------- run configuration
 put("config", "sections",

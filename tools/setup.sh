@@ -17,6 +17,7 @@ packages=(
   build-essential cmake ninja-build ccache pkg-config
   libeigen3-dev libopencv-dev libopencv-contrib-dev libvisp-dev libceres-dev
   libpcl-dev liboctomap-dev libapriltag-dev libgtest-dev libgmock-dev libbenchmark-dev
+  libpugixml-dev nlohmann-json3-dev libyaml-cpp-dev zlib1g-dev  # XML, JSON, YAML, CRC-32
   clang libclang-rt-14-dev  # libFuzzer and clang's sanitizer runtimes (fuzz/, CMakePresets.json `fuzz`)
 )
 # ROS 1 (Debian's Noetic-era packages): bag input, the plslam_ros node, rosmaster for its tests,

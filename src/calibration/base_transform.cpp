@@ -8,6 +8,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "core/yaml.h"
 
 namespace plslam::calib {
 
@@ -110,56 +111,20 @@ void saveCameraToBase(const std::string& path, const CameraToBase& c, const std:
   writeFileAtomically(path, os.str());
 }
 
-namespace {
-
-std::vector<double> parseList(const std::string& value, const std::string& where) {
-  const size_t a = value.find('['), b = value.find(']');
-  if (a == std::string::npos || b == std::string::npos || b < a) throw IoError(where + ": expected a list [a, b, ...]");
-  std::vector<double> out;
-  std::stringstream ss(value.substr(a + 1, b - a - 1));
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    std::istringstream is(item);
-    double d = 0;
-    std::string rest;
-    if (!(is >> d) || (is >> rest) || !std::isfinite(d)) throw IoError(where + ": '" + item + "' is not a number");
-    out.push_back(d);
-  }
-  return out;
-}
-
-}  // namespace
-
 SE3 loadCameraToBase(const std::string& path) {
-  std::ifstream in(path);
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path + ": cannot open camera-to-base file");
-  std::string line, format;
-  std::vector<double> t, q;
-  for (int no = 1; std::getline(in, line); ++no) {
-    const size_t hash = line.find('#');
-    if (hash != std::string::npos) line.resize(hash);
-    const size_t colon = line.find(':');
-    if (colon == std::string::npos) continue;
-    std::string key = line.substr(0, colon);
-    key.erase(0, key.find_first_not_of(" \t"));
-    key.erase(key.find_last_not_of(" \t") + 1);
-    const std::string value = line.substr(colon + 1);
-    const std::string where = str(path, ":", no);
-    if (key == "format") {
-      format = value;
-    } else if (key == "translation") {
-      t = parseList(value, where);
-      if (t.size() != 3) throw IoError(where + ": translation needs 3 values");
-    } else if (key == "rotation") {
-      q = parseList(value, where);
-      if (q.size() != 4) throw IoError(where + ": rotation needs 4 values qx, qy, qz, qw");
-    }
-  }
-  if (format.find("plslam_camera_to_base") == std::string::npos)
+  std::ostringstream content;
+  content << in.rdbuf();
+  const YAML::Node doc = parseYaml<IoError>(content.str(), path);
+  const YAML::Node format = doc.IsMap() ? doc["format"] : YAML::Node();
+  if (!format || !format.IsScalar() || format.Scalar().find("plslam_camera_to_base") == std::string::npos)
     throw IoError(path + ": not a camera-to-base file (no 'format: plslam_camera_to_base 1' line)");
-  if (t.empty() || q.empty()) throw IoError(path + ": needs both 'translation' and 'rotation'");
+  const std::vector<double> t = yamlNumbersAt<IoError>(doc, "translation", 3, path);
+  const std::vector<double> q = yamlNumbersAt<IoError>(doc, "rotation", 4, path);
   const Eigen::Quaterniond quat(q[3], q[0], q[1], q[2]);
-  if (std::abs(quat.norm() - 1.0) > 1e-3) throw IoError(str(path, ": rotation quaternion has norm ", quat.norm(), ", expected 1"));
+  if (std::abs(quat.norm() - 1.0) > 1e-3)
+    throw IoError(str(yamlAt(path, doc["rotation"].Mark()), ": rotation quaternion has norm ", quat.norm(), ", expected 1"));
   return SE3(quat, Eigen::Vector3d(t[0], t[1], t[2]));
 }
 

@@ -1,5 +1,6 @@
 #include "core/option_table.h"
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -8,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "core/yaml.h"
 
 namespace plslam {
 
@@ -37,11 +39,11 @@ std::string formatDouble(double d) {
   return os.str();
 }
 
-std::string trim(const std::string& s) {
-  const size_t b = s.find_first_not_of(" \t\r");
-  if (b == std::string::npos) return "";
-  const size_t e = s.find_last_not_of(" \t\r");
-  return s.substr(b, e - b + 1);
+// A YAML double-quoted scalar: the text read back is `text`, whatever it holds.
+std::string yamlQuoted(const std::string& text) {
+  YAML::Emitter e;
+  e << YAML::DoubleQuoted << text;
+  return e.c_str();
 }
 
 }  // namespace
@@ -73,7 +75,7 @@ void OptionTable::bind(const std::string& key, bool* f, const std::string& doc) 
        [f] { return std::string(*f ? "true" : "false"); }});
 }
 void OptionTable::bind(const std::string& key, std::string* f, const std::string& doc) {
-  add({key, doc, "text", [f](const std::string& v) { *f = v; }, [f] { return "\"" + *f + "\""; }});
+  add({key, doc, "text", [f](const std::string& v) { *f = v; }, [f] { return yamlQuoted(*f); }});
 }
 
 void OptionTable::set(const std::string& key, const std::string& value, const std::string& source) {
@@ -108,61 +110,46 @@ std::string OptionTable::toYaml(const std::string& header_comment) const {
   return os.str();
 }
 
-std::map<std::string, std::string> parseYamlSubset(const std::string& content, const std::string& source) {
-  std::map<std::string, std::string> out;
-  std::vector<std::pair<int, std::string>> stack;  // (indent, key) of open sections
-  std::istringstream in(content);
-  std::string raw;
-  int lineno = 0;
-  auto fail = [&](const std::string& what) { throw ConfigError(str(source, ":", lineno, ": ", what)); };
-  while (std::getline(in, raw)) {
-    ++lineno;
-    if (lineno == 1 && raw.rfind("%YAML", 0) == 0) continue;
-    if (raw == "---") continue;
-    // Strip comments outside quotes.
-    std::string line;
-    char quote = 0;
-    for (char c : raw) {
-      if (quote) {
-        if (c == quote) quote = 0;
-      } else if (c == '"' || c == '\'') {
-        quote = c;
-      } else if (c == '#') {
-        break;
-      }
-      line.push_back(c);
+namespace {
+
+bool validKey(const std::string& key) {
+  if (key.empty()) return false;
+  for (char c : key)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-')) return false;
+  return true;
+}
+
+// Adds the scalars of `map` to `out` as "prefix.key" -> text, descending into nested
+// mappings. The depth bound also stops an alias that refers to its own mapping.
+void flattenMapping(const YAML::Node& map, const std::string& prefix, int depth, const std::string& source,
+                    std::map<std::string, std::string>* out) {
+  const auto fail = [&](const YAML::Node& at, const std::string& what) { throw ConfigError(yamlAt(source, at.Mark()) + ": " + what); };
+  if (depth > 8) fail(map, "mappings nested too deep");
+  for (const auto& kv : map) {
+    const YAML::Node& key = kv.first;
+    const YAML::Node& value = kv.second;
+    if (!key.IsScalar() || !validKey(key.Scalar()))
+      fail(key, "bad key '" + (key.IsScalar() ? key.Scalar() : std::string("(not text)")) + "'");
+    const std::string full = prefix + key.Scalar();
+    if (value.IsMap()) {
+      flattenMapping(value, full + ".", depth + 1, source, out);
+    } else if (value.IsSequence()) {
+      fail(value, "'" + full + "': sequences are not supported in configuration files");
+    } else if (value.IsScalar()) {
+      if (!out->emplace(full, value.Scalar()).second) fail(key, "key '" + full + "' given twice");
     }
-    if (quote) fail("unterminated quote");
-    if (trim(line).empty()) continue;
-    if (line.find('\t') != std::string::npos && line.find_first_not_of(" \t") > line.find('\t'))
-      fail("tabs are not allowed for indentation");
-    const int indent = static_cast<int>(line.find_first_not_of(' '));
-    const std::string body = trim(line);
-    if (body[0] == '-') fail("sequences are not supported in configuration files");
-    const size_t colon = body.find(':');
-    if (colon == std::string::npos || colon == 0) fail("expected 'key: value' or 'section:'");
-    const std::string key = trim(body.substr(0, colon));
-    std::string value = trim(body.substr(colon + 1));
-    for (char c : key)
-      if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-')) fail("bad key '" + key + "'");
-    while (!stack.empty() && stack.back().first >= indent) stack.pop_back();
-    if (stack.empty() && indent != 0) fail("unexpected indentation");
-    std::string full;
-    for (const auto& s : stack) full += s.second + ".";
-    full += key;
-    if (value.empty()) {
-      stack.emplace_back(indent, key);
-      continue;
-    }
-    if (value[0] == '[' || value[0] == '{' || value[0] == '&' || value[0] == '*' || value[0] == '|' || value[0] == '>')
-      fail("flow collections, anchors and block scalars are not supported");
-    if (value.size() >= 2 && (value[0] == '"' || value[0] == '\'')) {
-      if (value.back() != value[0]) fail("text after a quoted value");
-      value = value.substr(1, value.size() - 2);
-    }
-    if (out.count(full)) fail("key '" + full + "' given twice");
-    out[full] = value;
+    // A key without a value ("section:" with nothing under it) sets nothing.
   }
+}
+
+}  // namespace
+
+std::map<std::string, std::string> parseYamlSubset(const std::string& content, const std::string& source) {
+  const YAML::Node doc = parseYaml<ConfigError>(content, source);
+  std::map<std::string, std::string> out;
+  if (doc.IsNull()) return out;  // empty, or only comments
+  if (!doc.IsMap()) throw ConfigError(yamlAt(source, doc.Mark()) + ": expected 'key: value' or 'section:' lines");
+  flattenMapping(doc, "", 0, source, &out);
   return out;
 }
 

@@ -40,10 +40,10 @@ class OptionTable {
   std::map<std::string, size_t> index_;
 };
 
-/// Parses the YAML subset used by plslam configuration files: nested mappings by
-/// indentation ("section:" then indented "key: value"), '#' comments, plain or quoted
-/// scalars. Returns flat "section.key" -> value. Sequences, anchors and multi-line
-/// scalars are refused with a ConfigError naming `source` and the line.
+/// Parses a plslam configuration file (YAML, read by yaml-cpp): nested mappings of scalars
+/// ("section:" then indented "key: value"). Returns flat "section.key" -> value; a key
+/// without a value sets nothing. Syntax errors, sequences, keys other than letters, digits,
+/// '_' and '-', and keys given twice are refused with a ConfigError naming `source` and the line.
 std::map<std::string, std::string> parseYamlSubset(const std::string& content, const std::string& source);
 
 }  // namespace plslam

@@ -46,8 +46,6 @@ std::string fmt(double v) {
   return b;
 }
 
-std::string vec3(const Eigen::Vector3d& v) { return "[" + fmt(v.x()) + ", " + fmt(v.y()) + ", " + fmt(v.z()) + "]"; }
-
 }  // namespace
 
 double residentMb() { return procStatusMb("VmRSS:"); }
@@ -123,50 +121,67 @@ DenseProducts buildDenseProducts(const Map& map, const PinholeCamera& camera, co
   return p;
 }
 
+namespace {
+
+Json vec3(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+// A pose as its translation and quaternion (x, y, z, w).
+Json poseJson(const SE3& T) {
+  const Eigen::Quaterniond& q = T.quaternion();
+  return {{"t", vec3(T.translation())}, {"q_xyzw", {q.x(), q.y(), q.z(), q.w()}}};
+}
+
+Json octreeJson(const octomap::OcTree& tree, const DenseOptions& o) {
+  const OctreeSummary t = summarizeOctree(tree);
+  return {{"resolution_m", o.octree_resolution_m},
+          {"occupied_leaves", t.occupied_leaves},
+          {"free_leaves", t.free_leaves},
+          {"memory_bytes", t.memory_bytes}};
+}
+
+Json mapFrameJson(const DenseProducts& p) {
+  return {{"T_map_world", poseJson(p.frame.T_map_world)},
+          {"camera_height_m", p.frame.cameraHeight()},
+          {"floor_method", p.frame.floor_method},
+          {"floor_source", p.frame.floor_source},
+          {"given", p.floor.method.empty()}};
+}
+
+Json gridJson(const OccupancyGrid& g, const DenseOptions& o) {
+  return {{"width", g.width},
+          {"height", g.height},
+          {"resolution_m", g.resolution},
+          {"origin", {g.origin.x(), g.origin.y(), 0}},
+          {"min_height_m", o.grid_min_height_m},
+          {"max_height_m", o.grid_max_height_m},
+          {"occupied", g.count(OccupancyGrid::kOccupied)},
+          {"free", g.count(OccupancyGrid::kFree)},
+          {"unknown", g.count(OccupancyGrid::kUnknown)},
+          {"T_w_grid", poseJson(g.T_w_grid)}};
+}
+
+}  // namespace
+
 std::string denseSummaryJson(const DenseProducts& p, const DenseOptions& o, const std::vector<WrittenFile>& files) {
-  std::ostringstream s;
-  s << "{\n  \"keyframes\": " << p.keyframes << ",\n  \"keyframes_with_cloud\": " << p.keyframes_with_cloud
-    << ",\n  \"keyframe_points\": " << p.keyframe_points << ",\n  \"fused_points\": " << p.cloud.size()
-    << ",\n  \"fused_voxel_m\": " << fmt(o.fused_voxel_m) << ",\n  \"cancelled\": " << (p.cancelled ? "true" : "false");
-  if (p.octree) {
-    const OctreeSummary t = summarizeOctree(*p.octree);
-    s << ",\n  \"octree\": {\"resolution_m\": " << fmt(o.octree_resolution_m)
-      << ", \"occupied_leaves\": " << t.occupied_leaves << ", \"free_leaves\": " << t.free_leaves
-      << ", \"memory_bytes\": " << t.memory_bytes << "}";
-  }
-  if (!p.frame.floor_method.empty()) {
-    const Eigen::Quaterniond& q = p.frame.T_map_world.quaternion();
-    s << ",\n  \"map_frame\": {\"T_map_world\": {\"t\": " << vec3(p.frame.T_map_world.translation())
-      << ", \"q_xyzw\": [" << fmt(q.x()) << ", " << fmt(q.y()) << ", " << fmt(q.z()) << ", " << fmt(q.w())
-      << "]}, \"camera_height_m\": " << fmt(p.frame.cameraHeight())
-      << ", \"floor_method\": " << jsonQuote(p.frame.floor_method)
-      << ", \"floor_source\": " << jsonQuote(p.frame.floor_source) << ", \"given\": "
-      << (p.floor.method.empty() ? "true" : "false") << "}";
-  }
+  Json j = {{"keyframes", p.keyframes},
+            {"keyframes_with_cloud", p.keyframes_with_cloud},
+            {"keyframe_points", p.keyframe_points},
+            {"fused_points", p.cloud.size()},
+            {"fused_voxel_m", o.fused_voxel_m},
+            {"cancelled", p.cancelled}};
+  if (p.octree) j["octree"] = octreeJson(*p.octree, o);
+  if (!p.frame.floor_method.empty()) j["map_frame"] = mapFrameJson(p);
   if (!p.floor.method.empty())
-    s << ",\n  \"floor\": {\"method\": " << jsonQuote(p.floor.method) << ", \"up_w\": " << vec3(p.floor.up_w)
-      << ", \"height0_m\": " << fmt(p.floor.height0) << ", \"inliers\": " << p.floor.inliers << "}";
-  if (p.grid.width > 0) {
-    const Eigen::Quaterniond& q = p.grid.T_w_grid.quaternion();
-    s << ",\n  \"grid\": {\"width\": " << p.grid.width << ", \"height\": " << p.grid.height
-      << ", \"resolution_m\": " << fmt(p.grid.resolution) << ", \"origin\": [" << fmt(p.grid.origin.x()) << ", "
-      << fmt(p.grid.origin.y()) << ", 0], \"min_height_m\": " << fmt(o.grid_min_height_m)
-      << ", \"max_height_m\": " << fmt(o.grid_max_height_m) << ", \"occupied\": " << p.grid.count(OccupancyGrid::kOccupied)
-      << ", \"free\": " << p.grid.count(OccupancyGrid::kFree) << ", \"unknown\": " << p.grid.count(OccupancyGrid::kUnknown)
-      << ", \"T_w_grid\": {\"t\": " << vec3(p.grid.T_w_grid.translation()) << ", \"q_xyzw\": [" << fmt(q.x()) << ", "
-      << fmt(q.y()) << ", " << fmt(q.z()) << ", " << fmt(q.w()) << "]}}";
-  }
-  s << ",\n  \"costs\": [";
-  for (size_t i = 0; i < p.costs.size(); ++i)
-    s << (i ? ",\n    " : "\n    ") << "{\"step\": " << jsonQuote(p.costs[i].step)
-      << ", \"seconds\": " << fmt(p.costs[i].seconds) << ", \"peak_rss_mb\": " << fmt(p.costs[i].peak_rss_mb)
-      << ", \"start_rss_mb\": " << fmt(p.costs[i].start_rss_mb) << "}";
-  s << "\n  ],\n  \"files\": [";
-  for (size_t i = 0; i < files.size(); ++i)
-    s << (i ? ",\n    " : "\n    ") << "{\"name\": "
-      << jsonQuote(std::filesystem::path(files[i].path).filename().string()) << ", \"bytes\": " << files[i].bytes << "}";
-  s << "\n  ]\n}\n";
-  return s.str();
+    j["floor"] = {{"method", p.floor.method}, {"up_w", vec3(p.floor.up_w)}, {"height0_m", p.floor.height0},
+                  {"inliers", p.floor.inliers}};
+  if (p.grid.width > 0) j["grid"] = gridJson(p.grid, o);
+  j["costs"] = Json::array();
+  for (const auto& c : p.costs)
+    j["costs"].push_back({{"step", c.step}, {"seconds", c.seconds}, {"peak_rss_mb", c.peak_rss_mb}, {"start_rss_mb", c.start_rss_mb}});
+  j["files"] = Json::array();
+  for (const WrittenFile& f : files)
+    j["files"].push_back({{"name", std::filesystem::path(f.path).filename().string()}, {"bytes", f.bytes}});
+  return jsonText(j);
 }
 
 std::vector<WrittenFile> writeDenseProducts(const std::string& dir, const DenseProducts& p, const DenseSelection& what,

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "core/yaml.h"
 
 namespace plslam {
 
@@ -21,13 +22,6 @@ std::string readAll(const std::string& path) {
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
-}
-
-std::string trim(const std::string& s) {
-  const size_t a = s.find_first_not_of(" \t\r");
-  if (a == std::string::npos) return "";
-  const size_t b = s.find_last_not_of(" \t\r");
-  return s.substr(a, b - a + 1);
 }
 
 }  // namespace
@@ -76,37 +70,25 @@ std::string gridToYaml(const OccupancyGrid& g, const std::string& image_name, do
   return s;
 }
 
+// map_server's keys; others are ignored, as map_server does.
 GridYaml parseGridYaml(const std::string& content, const std::string& source) {
+  const YAML::Node doc = parseYaml<IoError>(content, source);
+  if (!doc.IsMap()) throw IoError(yamlAt(source, doc.Mark()) + ": expected 'key: value' lines (a map_server map YAML)");
   GridYaml y;
-  bool has[7] = {};
-  std::istringstream in(content);
-  for (std::string line; std::getline(in, line);) {
-    line = trim(line);
-    if (line.empty() || line[0] == '#') continue;
-    const size_t colon = line.find(':');
-    if (colon == std::string::npos) throw IoError(source + ": not a 'key: value' line: " + line);
-    const std::string key = trim(line.substr(0, colon)), value = trim(line.substr(colon + 1));
-    try {
-      if (key == "image") y.image = value, has[0] = true;
-      else if (key == "resolution") y.resolution = std::stod(value), has[1] = true;
-      else if (key == "origin") {
-        double a, b, c;
-        if (std::sscanf(value.c_str(), " [ %lf , %lf , %lf ]", &a, &b, &c) != 3)
-          throw IoError(source + ": origin must be [x, y, yaw]: " + value);
-        y.origin = {a, b, c};
-        has[2] = true;
-      } else if (key == "negate") y.negate = std::stoi(value), has[3] = true;
-      else if (key == "occupied_thresh") y.occupied_thresh = std::stod(value), has[4] = true;
-      else if (key == "free_thresh") y.free_thresh = std::stod(value), has[5] = true;
-      else if (key == "mode") y.mode = value, has[6] = true;
-    } catch (const std::logic_error&) {
-      throw IoError(source + ": bad value for " + key + ": " + value);
-    }
-  }
-  const char* names[] = {"image", "resolution", "origin", "negate", "occupied_thresh", "free_thresh"};
-  for (int i = 0; i < 6; ++i)
-    if (!has[i]) throw IoError(source + ": no '" + names[i] + "' key");
-  if (!(y.resolution > 0)) throw IoError(source + ": resolution must be > 0");
+  const YAML::Node image = doc["image"];
+  if (!image) throw IoError(source + ": no 'image' key");
+  if (!image.IsScalar()) throw IoError(yamlAt(source, image.Mark()) + ": image must be a file name");
+  y.image = image.Scalar();
+  y.resolution = yamlNumberAt<IoError>(doc, "resolution", source);
+  const std::vector<double> origin = yamlNumbersAt<IoError>(doc, "origin", 3, source);
+  y.origin = {origin[0], origin[1], origin[2]};
+  const double negate = yamlNumberAt<IoError>(doc, "negate", source);
+  if (negate != 0 && negate != 1) throw IoError(yamlAt(source, doc["negate"].Mark()) + ": negate must be 0 or 1");
+  y.negate = static_cast<int>(negate);
+  y.occupied_thresh = yamlNumberAt<IoError>(doc, "occupied_thresh", source);
+  y.free_thresh = yamlNumberAt<IoError>(doc, "free_thresh", source);
+  if (const YAML::Node mode = doc["mode"]; mode && mode.IsScalar()) y.mode = mode.Scalar();
+  if (!(y.resolution > 0)) throw IoError(yamlAt(source, doc["resolution"].Mark()) + ": resolution must be > 0");
   return y;
 }
 

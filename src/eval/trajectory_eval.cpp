@@ -24,14 +24,6 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-/// A JSON number, or null when not finite.
-std::string num(double v) {
-  if (!std::isfinite(v)) return "null";
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "%.10g", v);
-  return buf;
-}
-
 std::vector<double> seconds(const Trajectory& traj) {
   std::vector<double> s(traj.size());
   std::transform(traj.begin(), traj.end(), s.begin(), [](const StampedPose& p) { return stampSeconds(p.t_ns); });
@@ -173,27 +165,36 @@ EvalResult evaluateFiles(const std::string& gt_path, const std::string& est_path
   return evaluate(gt, est, options, gt_path, est_path);
 }
 
+namespace {
+
+Json figuresJson(const Stats& a) {
+  return {{"rmse", a.rmse}, {"mean", a.mean}, {"median", a.median}, {"std", a.std}, {"min", a.min}, {"max", a.max}};
+}
+
+// Without RPE pairs its figures are null.
+Json rpeJson(const EvalResult& r) {
+  const bool have = r.rpe.pairs > 0;
+  const auto v = [&](double x) { return have ? Json(x) : Json(nullptr); };
+  const Stats& t = r.rpe.trans;
+  const Stats& d = r.rpe.rot_deg;
+  return {{"pairs", r.rpe.pairs},           {"delta_s", r.rpe.delta_s},       {"trans_rmse", v(t.rmse)},
+          {"trans_mean", v(t.mean)},        {"trans_median", v(t.median)},    {"trans_std", v(t.std)},
+          {"trans_min", v(t.min)},          {"trans_max", v(t.max)},          {"rot_rmse_deg", v(d.rmse)},
+          {"rot_mean_deg", v(d.mean)},      {"rot_median_deg", v(d.median)}, {"rot_std_deg", v(d.std)},
+          {"rot_min_deg", v(d.min)},        {"rot_max_deg", v(d.max)}};
+}
+
+}  // namespace
+
 std::string toJson(const EvalResult& r) {
-  const bool rpe = r.rpe.pairs > 0;
-  auto rv = [&](double v) { return rpe ? num(v) : std::string("null"); };
-  const Stats& a = r.ate.stats;
   const Eigen::Vector3d t = r.ate.T_gt_est.translation();
   const Eigen::Quaterniond q = r.ate.T_gt_est.quaternion();
-  std::ostringstream os;
-  os << "{\"pairs\": " << r.ate.pairs.size() << ", \"gt_file\": " << jsonQuote(r.gt_name)
-     << ", \"est_file\": " << jsonQuote(r.est_name) << ", \"gt_poses\": " << r.gt_poses
-     << ", \"est_poses\": " << r.est_poses << ",\n \"ate\": {\"rmse\": " << num(a.rmse) << ", \"mean\": " << num(a.mean)
-     << ", \"median\": " << num(a.median) << ", \"std\": " << num(a.std) << ", \"min\": " << num(a.min)
-     << ", \"max\": " << num(a.max) << ", \"T_gt_est\": [" << num(t.x()) << ", " << num(t.y()) << ", " << num(t.z())
-     << ", " << num(q.x()) << ", " << num(q.y()) << ", " << num(q.z()) << ", " << num(q.w()) << "]},\n"
-     << " \"rpe\": {\"pairs\": " << r.rpe.pairs << ", \"delta_s\": " << num(r.rpe.delta_s)
-     << ", \"trans_rmse\": " << rv(r.rpe.trans.rmse) << ", \"trans_mean\": " << rv(r.rpe.trans.mean)
-     << ", \"trans_median\": " << rv(r.rpe.trans.median) << ", \"trans_std\": " << rv(r.rpe.trans.std)
-     << ", \"trans_min\": " << rv(r.rpe.trans.min) << ", \"trans_max\": " << rv(r.rpe.trans.max)
-     << ", \"rot_rmse_deg\": " << rv(r.rpe.rot_deg.rmse) << ", \"rot_mean_deg\": " << rv(r.rpe.rot_deg.mean)
-     << ", \"rot_median_deg\": " << rv(r.rpe.rot_deg.median) << ", \"rot_std_deg\": " << rv(r.rpe.rot_deg.std)
-     << ", \"rot_min_deg\": " << rv(r.rpe.rot_deg.min) << ", \"rot_max_deg\": " << rv(r.rpe.rot_deg.max) << "}}\n";
-  return os.str();
+  Json ate = figuresJson(r.ate.stats);
+  ate["T_gt_est"] = {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()};
+  const Json j = {{"pairs", r.ate.pairs.size()}, {"gt_file", r.gt_name},     {"est_file", r.est_name},
+                  {"gt_poses", r.gt_poses},        {"est_poses", r.est_poses}, {"ate", ate},
+                  {"rpe", rpeJson(r)}};
+  return jsonText(j);
 }
 
 std::string toText(const EvalResult& r) {

@@ -113,10 +113,9 @@ LiveStats runLive(FrameGrabber* grabber, System* slam, const LiveOptions& option
   return stats;
 }
 
-std::string liveStatsJson(const LiveStats& s) {
-  return str("\"live_grabbed\": ", s.grabbed, ", \"live_processed\": ", s.processed, ", \"live_dropped\": ", s.dropped,
-             ", \"live_recorded\": ", s.recorded, ", \"live_seconds\": ", s.seconds,
-             ", \"live_stop\": ", jsonQuote(toString(s.stop)));
+Json liveStatsJson(const LiveStats& s) {
+  return {{"live_grabbed", s.grabbed},   {"live_processed", s.processed}, {"live_dropped", s.dropped},
+          {"live_recorded", s.recorded}, {"live_seconds", s.seconds},     {"live_stop", toString(s.stop)}};
 }
 
 }  // namespace plslam

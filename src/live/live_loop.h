@@ -19,6 +19,7 @@
 
 #include "capture/frame_grabber.h"
 #include "capture/tum_recorder.h"
+#include "core/json.h"
 #include "system/system.h"
 
 namespace plslam {
@@ -61,8 +62,8 @@ LiveStats runLive(FrameGrabber* grabber, System* slam, const LiveOptions& option
                   const std::function<bool()>& stop = {}, const std::function<void(const LiveProgress&)>& progress = {},
                   int progress_period_ms = 500, const PinholeCamera* recording_camera = nullptr);
 
-/// LiveStats as JSON members (no braces) for stats.json: live_grabbed, live_processed,
-/// live_dropped, live_recorded, live_seconds, live_stop.
-std::string liveStatsJson(const LiveStats& stats);
+/// LiveStats as JSON members for stats.json: live_grabbed, live_processed, live_dropped,
+/// live_recorded, live_seconds, live_stop.
+Json liveStatsJson(const LiveStats& stats);
 
 }  // namespace plslam

@@ -10,10 +10,6 @@
 
 namespace plslam::mapfile {
 
-/// CRC-32 (IEEE 802.3, the zlib/PNG one) of `size` bytes, continuing from `crc` (0 to start).
-uint32_t crc32(const void* data, size_t size, uint32_t crc = 0);
-inline uint32_t crc32(const std::string& s) { return crc32(s.data(), s.size()); }
-
 class ByteWriter {
  public:
   void u8(uint8_t v) { out_.push_back(static_cast<char>(v)); }

@@ -5,6 +5,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/crc32.h"
 #include "core/error.h"
 #include "mapfile/byte_io.h"
 

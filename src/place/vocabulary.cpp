@@ -11,6 +11,7 @@
 #include <set>
 
 #include "core/atomic_file.h"
+#include "core/crc32.h"
 #include "core/error.h"
 #include "core/log.h"
 
@@ -314,21 +315,6 @@ bool Vocabulary::operator==(const Vocabulary& o) const {
         nodes_[i].weight != o.nodes_[i].weight)
       return false;
   return true;
-}
-
-uint32_t crc32(const uint8_t* data, size_t n, uint32_t crc) {
-  static const auto table = [] {
-    std::array<uint32_t, 256> t{};
-    for (uint32_t i = 0; i < 256; ++i) {
-      uint32_t c = i;
-      for (int k = 0; k < 8; ++k) c = c & 1 ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-      t[i] = c;
-    }
-    return t;
-  }();
-  crc = ~crc;
-  for (size_t i = 0; i < n; ++i) crc = table[(crc ^ data[i]) & 0xFF] ^ (crc >> 8);
-  return ~crc;
 }
 
 void saveVocabulary(const std::string& path, const VocabularySet& vocabulary) {

@@ -98,9 +98,6 @@ struct VocabularySet {
   Vocabulary lbd;
 };
 
-/// CRC-32 (zlib polynomial 0xEDB88320) of `n` bytes.
-uint32_t crc32(const uint8_t* data, size_t n, uint32_t crc = 0);
-
 /// Writes the file format above atomically. Throws IoError naming the file.
 void saveVocabulary(const std::string& path, const VocabularySet& vocabulary);
 /// Reads and checks a vocabulary file. Throws IoError when missing or unreadable, DataError

@@ -10,15 +10,14 @@
 #include <cstring>
 
 #include "core/error.h"
+#include "core/json.h"
 #include "core/log.h"
 
 namespace plslam {
 
 std::string commandJson(TimeNs t_ns, const VelocityCommand& command) {
-  char buffer[160];
-  std::snprintf(buffer, sizeof(buffer), "{\"t\":%s,\"v\":%.6f,\"w\":%.6f}", formatSecondsStamp(t_ns).c_str(), command.v,
-                command.w);
-  return buffer;
+  const Json line = {{"t", nsToSeconds(t_ns)}, {"v", command.v}, {"w", command.w}};
+  return line.dump(-1, ' ', false, Json::error_handler_t::replace);
 }
 
 void PrintSink::send(TimeNs t_ns, const VelocityCommand& command) {

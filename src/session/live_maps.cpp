@@ -23,11 +23,13 @@ constexpr std::chrono::milliseconds kPoll(500);
 
 }  // namespace
 
-std::string liveMapsStatsJson(const LiveMapsStats& s) {
+Json liveMapsStatsJson(const LiveMapsStats& s) {
   const Summary u = summarize(s.update_ms), w = summarize(s.write_ms);
-  return str("\"live_map_updates\": ", s.updates, ", \"live_map_refusions\": ", s.refusions,
-             ", \"live_map_failures\": ", s.failures, ", \"live_map_update_ms\": {\"median\": ", u.median,
-             ", \"max\": ", u.max, "}, \"live_map_write_ms\": {\"median\": ", w.median, ", \"max\": ", w.max, "}");
+  return {{"live_map_updates", s.updates},
+          {"live_map_refusions", s.refusions},
+          {"live_map_failures", s.failures},
+          {"live_map_update_ms", {{"median", u.median}, {"max", u.max}}},
+          {"live_map_write_ms", {{"median", w.median}, {"max", w.max}}}};
 }
 
 LiveMaps::LiveMaps(const Map& map, const PinholeCamera& camera, const DenseOptions& options, std::string out_dir,

@@ -31,6 +31,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/json.h"
 #include "dense/dense_products.h"
 #include "dense/incremental_maps.h"
 #include "system/system.h"
@@ -54,9 +55,9 @@ struct LiveMapsStats {
   std::vector<double> update_ms;  ///< per update: incremental update (fusion, octrees, grid)
   std::vector<double> write_ms;   ///< per update: writing the files
 };
-/// The stats as JSON members (no braces): live_map_updates, live_map_refusions,
-/// live_map_failures, live_map_update_ms and live_map_write_ms (median, max).
-std::string liveMapsStatsJson(const LiveMapsStats& stats);
+/// The stats as JSON members: live_map_updates, live_map_refusions, live_map_failures,
+/// live_map_update_ms and live_map_write_ms (median, max).
+Json liveMapsStatsJson(const LiveMapsStats& stats);
 
 class LiveMaps {
  public:

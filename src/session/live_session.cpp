@@ -120,7 +120,7 @@ void LiveSession::describe(const RgbdFrame& frame, const TrackingResult& r, Fram
   out->revised = std::make_shared<const Trajectory>(system_.trajectory());
 }
 
-void LiveSession::save(const std::string& dir, const std::string& stats_extra) {
+void LiveSession::save(const std::string& dir, const Json& stats_extra) {
   std::lock_guard<std::mutex> lock(feed_mutex_);
   const MapFrame frame = fixMapFrame();  // what is saved and what is published from now on agree
   writeRunOutputs(dir, system_, config_yaml_, stats_extra, "", &frame);
@@ -149,10 +149,10 @@ void LiveSession::stop() {
                 c.tracked));
 }
 
-void LiveSession::writeOutputs(const std::string& dir, const std::string& stats_extra, bool dense) {
+void LiveSession::writeOutputs(const std::string& dir, const Json& stats_extra, bool dense) {
   if (!stopped_) throw Error("LiveSession::writeOutputs before stop()");
-  std::string extra = stats_extra;
-  if (maps_) extra += (extra.empty() ? "" : ", ") + liveMapsStatsJson(maps_->stats());
+  Json extra = stats_extra.is_null() ? Json::object() : stats_extra;
+  if (maps_) extra.update(liveMapsStatsJson(maps_->stats()));
   // The dense products first: the floor of their cloud gives the map frame of every output,
   // as in plslam run (without them the run outputs find the floor in the sparse map).
   // A fixed map frame (the one published) is kept for every output.

@@ -41,6 +41,7 @@
 #include "core/map_frame.h"
 #include "core/trajectory.h"
 #include "session/live_maps.h"
+#include "core/json.h"
 #include "session/run_config.h"
 #include "system/system.h"
 
@@ -107,7 +108,7 @@ class LiveSession {
   /// map.plmap) into `dir` between two frames; the dense products are left to the end
   /// (they read the whole map without its lock: `plslam export` makes them from map.plmap).
   /// Throws what the writing throws.
-  void save(const std::string& dir, const std::string& stats_extra = "");
+  void save(const std::string& dir, const Json& stats_extra = nullptr);
   SparseMapSnapshot sparseMap() const { return sparseMapSnapshot(system_.map()); }
   /// The fixed map frame of the outputs; empty until it is fixed.
   std::optional<MapFrame> mapFrame() const;
@@ -117,7 +118,7 @@ class LiveSession {
   void stop();
   /// After stop(): the run outputs and, when `dense` and the options allow, the dense products,
   /// in the session's map frame (fixed now if it was not yet).
-  void writeOutputs(const std::string& dir, const std::string& stats_extra, bool dense);
+  void writeOutputs(const std::string& dir, const Json& stats_extra, bool dense);
 
   const System& system() const { return system_; }
   /// The maps while running (null when off).

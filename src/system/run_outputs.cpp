@@ -7,6 +7,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/json.h"
 #include "dense/floor_plane.h"
 #include "io/trajectory_file.h"
 #include "mapfile/map_file.h"
@@ -25,56 +26,80 @@ Summary summarize(std::vector<double> v) {
 }
 
 namespace {
-std::string summaryJson(const std::vector<double>& v) {
+
+Json summaryJson(const std::vector<double>& v) {
   const Summary s = summarize(v);
-  std::ostringstream os;
-  os.precision(6);
-  os << "{\"median\": " << s.median << ", \"mean\": " << s.mean << ", \"p95\": " << s.p95 << ", \"max\": " << s.max
-     << "}";
-  return os.str();
+  return {{"median", s.median}, {"mean", s.mean}, {"p95", s.p95}, {"max", s.max}};
 }
+
+double fraction(int part, int whole) { return whole ? static_cast<double>(part) / whole : 0.0; }
+
+Json stagesJson(const RunStats& s) {
+  Json out = Json::object();
+  for (int i = 0; i < kStageCount; ++i) out[stageName(static_cast<Stage>(i))] = summaryJson(s.stage_ms[i]);
+  return out;
+}
+
+Json trackingMethodsJson(const RunStats& s) {
+  Json out = Json::object();
+  for (int i = 0; i < kTrackingMethodCount; ++i) out[toString(static_cast<TrackingMethod>(i))] = s.methods[i];
+  return out;
+}
+
+Json dynamicJson(const RunStats& s) {
+  return {{"segmenter", s.segmenter},
+          {"points_rejected_per_frame", summaryJson(s.dynamic_points_rejected)},
+          {"segmentation_ms", summaryJson(s.segmentation_ms)},
+          {"segmentations", s.segmentation_ms.size()},
+          {"fresh_mask_fraction", fraction(s.fresh_segmentations, s.frames)},
+          {"mask_age_frames", summaryJson(s.mask_age_frames)}};
+}
+
+Json loopJson(const RunStats& s) {
+  Json refused = Json::object();
+  for (int i = 1; i < kLoopStatusCount; ++i) refused[toString(static_cast<LoopStatus>(i))] = s.loop.refused[i];
+  return {{"keyframes", s.loop.queries},
+          {"candidates", s.loop.candidates},
+          {"accepted", s.loop.accepted},
+          {"refused", refused},
+          {"correction_ms", summaryJson(s.loop.correction_ms)},
+          {"correction_hold_ms", summaryJson(s.loop.correction_hold_ms)}};
+}
+
 }  // namespace
 
-std::string statsToJson(const RunStats& s, const std::string& extra) {
-  std::ostringstream os;
-  os.precision(6);
-  os << "{\n  \"frames\": " << s.frames << ",\n  \"tracked\": " << s.tracked
-     << ",\n  \"tracked_fraction\": " << (s.frames ? static_cast<double>(s.tracked) / s.frames : 0.0)
-     << ",\n  \"keyframes\": " << s.keyframes << ",\n  \"lost_events\": " << s.lost_events
-     << ",\n  \"relocalisations\": " << s.relocalisations << ",\n  \"refined_frames\": " << s.refined_frames << ",\n  \"map_points\": " << s.map_points
-     << ",\n  \"map_lines\": " << s.map_lines << ",\n  \"tracking_ms\": " << summaryJson(s.tracking_ms)
-     << ",\n  \"features_ms\": " << summaryJson(s.features_ms) << ",\n  \"local_ba_ms\": " << summaryJson(s.ba_ms)
-     << ",\n  \"refinement_ms\": " << summaryJson(s.refinement_ms) << ",\n  \"stages_ms\": {";
-  for (int i = 0; i < kStageCount; ++i)
-    os << (i ? ", " : "") << "\"" << stageName(static_cast<Stage>(i)) << "\": " << summaryJson(s.stage_ms[i]);
-  os << "}" << ",\n  \"tracking_methods\": {";
-  for (int i = 0; i < kTrackingMethodCount; ++i)
-    os << (i ? ", " : "") << "\"" << toString(static_cast<TrackingMethod>(i)) << "\": " << s.methods[i];
-  os << "}" << ",\n  \"recovery\": {\"events\": " << s.recovery_frames.size()
-     << ", \"lost_frames\": " << summaryJson(s.recovery_frames) << ", \"seconds\": " << summaryJson(s.recovery_s) << "}"
-     << ",\n  \"line_reconstruction_rate\": {\"fitting\": " << s.line_rate_fitting
-     << ", \"endpoints\": " << s.line_rate_endpoints << ", \"keyframes\": " << s.line_rate_keyframes << "}"
-     << ",\n  \"dynamic\": {\"segmenter\": \"" << s.segmenter << "\", \"points_rejected_per_frame\": "
-     << summaryJson(s.dynamic_points_rejected) << ", \"segmentation_ms\": " << summaryJson(s.segmentation_ms)
-     << ", \"segmentations\": " << s.segmentation_ms.size() << ", \"fresh_mask_fraction\": "
-     << (s.frames ? static_cast<double>(s.fresh_segmentations) / s.frames : 0.0)
-     << ", \"mask_age_frames\": " << summaryJson(s.mask_age_frames) << "}"
-     << ",\n  \"modules\": {\"lines\": " << (s.use_lines ? "true" : "false")
-     << ", \"dynamic\": " << (s.use_dynamic ? "true" : "false")
-     << ", \"loop_closure\": " << (s.use_loop ? "true" : "false")
-     << ", \"sequential\": " << (s.sequential ? "true" : "false") << "}";
-  if (s.use_loop) {
-    os << ",\n  \"loop\": {\"keyframes\": " << s.loop.queries << ", \"candidates\": " << s.loop.candidates
-       << ", \"accepted\": " << s.loop.accepted << ", \"refused\": {";
-    for (int i = 1; i < kLoopStatusCount; ++i)
-      os << (i > 1 ? ", " : "") << "\"" << toString(static_cast<LoopStatus>(i)) << "\": " << s.loop.refused[i];
-    os << "}, \"correction_ms\": " << summaryJson(s.loop.correction_ms)
-       << ", \"correction_hold_ms\": " << summaryJson(s.loop.correction_hold_ms) << "}";
-  }
-  if (!extra.empty()) os << ",\n  " << extra;
-  os << "\n}\n";
-  return os.str();
+Json statsJson(const RunStats& s, const Json& extra) {
+  if (!extra.is_null() && !extra.is_object()) throw std::invalid_argument("statsJson: `extra` must be a JSON object");
+  Json j = {{"frames", s.frames},
+            {"tracked", s.tracked},
+            {"tracked_fraction", fraction(s.tracked, s.frames)},
+            {"keyframes", s.keyframes},
+            {"lost_events", s.lost_events},
+            {"relocalisations", s.relocalisations},
+            {"refined_frames", s.refined_frames},
+            {"map_points", s.map_points},
+            {"map_lines", s.map_lines},
+            {"tracking_ms", summaryJson(s.tracking_ms)},
+            {"features_ms", summaryJson(s.features_ms)},
+            {"local_ba_ms", summaryJson(s.ba_ms)},
+            {"refinement_ms", summaryJson(s.refinement_ms)},
+            {"stages_ms", stagesJson(s)},
+            {"tracking_methods", trackingMethodsJson(s)},
+            {"recovery",
+             {{"events", s.recovery_frames.size()},
+              {"lost_frames", summaryJson(s.recovery_frames)},
+              {"seconds", summaryJson(s.recovery_s)}}},
+            {"line_reconstruction_rate",
+             {{"fitting", s.line_rate_fitting}, {"endpoints", s.line_rate_endpoints}, {"keyframes", s.line_rate_keyframes}}},
+            {"dynamic", dynamicJson(s)},
+            {"modules",
+             {{"lines", s.use_lines}, {"dynamic", s.use_dynamic}, {"loop_closure", s.use_loop}, {"sequential", s.sequential}}}};
+  if (s.use_loop) j["loop"] = loopJson(s);
+  if (extra.is_object()) j.update(extra);
+  return j;
 }
+
+std::string statsToJson(const RunStats& stats, const Json& extra) { return jsonText(statsJson(stats, extra)); }
 
 std::string framesToCsv(const std::vector<FrameRecord>& records) {
   std::ostringstream os;
@@ -136,7 +161,7 @@ MapFrame sparseMapFrame(const System& system) {
 }
 
 void writeRunOutputs(const std::string& dir, const System& system, const std::string& config_yaml,
-                     const std::string& stats_extra, const std::string& map_path, const MapFrame* frame) {
+                     const Json& stats_extra, const std::string& map_path, const MapFrame* frame) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (!std::filesystem::is_directory(dir)) throw IoError(dir + ": cannot create the output folder");

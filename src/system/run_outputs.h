@@ -17,14 +17,18 @@
 
 #include <string>
 
+#include "core/json.h"
 #include "core/map_frame.h"
 #include "system/system.h"
 
 namespace plslam {
 
-/// Statistics as one JSON object. `extra` (JSON members without braces, may be empty) is
-/// appended for the caller's own fields (dataset, ATE...).
-std::string statsToJson(const RunStats& stats, const std::string& extra = "");
+/// Statistics as one JSON object; the members of `extra` (an object, or null) are added
+/// for the caller's own fields (dataset, ATE...). Throws std::invalid_argument when `extra`
+/// is anything else.
+Json statsJson(const RunStats& stats, const Json& extra = nullptr);
+/// statsJson as the text of stats.json.
+std::string statsToJson(const RunStats& stats, const Json& extra = nullptr);
 /// One CSV line per input frame (header first): time, status, tracking and feature times, the
 /// time of each stage (core/profile.h), segmentation, counts. What `frames.csv` holds.
 std::string framesToCsv(const std::vector<FrameRecord>& records);
@@ -46,8 +50,9 @@ MapFrame sparseMapFrame(const System& system);
 /// Writes the files above into `dir` (created if needed; config.yaml only when
 /// `config_yaml` is not empty), and the map to `map_path` (empty: dir/map.plmap), in the
 /// map frame `frame` (the dense products' one), or when null sparseMapFrame(system).
+/// `stats_extra` as in statsJson (an object or null: a string throws std::invalid_argument).
 void writeRunOutputs(const std::string& dir, const System& system, const std::string& config_yaml,
-                     const std::string& stats_extra = "", const std::string& map_path = "",
+                     const Json& stats_extra = nullptr, const std::string& map_path = "",
                      const MapFrame* frame = nullptr);
 
 /// Median / mean / 95th percentile / maximum of `v` (0 when empty). The maximum is the

@@ -121,14 +121,23 @@ TEST(CalibBase, BadPoseTextAndFilesAreRefusedNamingThem) {
   EXPECT_THROW(parsePoseXyzRpyDeg("1,2,3,a,0,0", "--tag-pose"), ConfigError);
   const std::string dir = test::scratchDir("calibration_base");
   const std::string bad = dir + "/bad.yaml";
-  FILE* f = std::fopen(bad.c_str(), "w");
-  std::fputs("format: plslam_camera_to_base 1\ntranslation: [0, 0, 0]\nrotation: [0, 0, 0, 2]\n", f);
-  std::fclose(f);
-  try {
-    loadCameraToBase(bad);
-    FAIL();
-  } catch (const IoError& e) {
-    EXPECT_NE(std::string(e.what()).find("bad.yaml"), std::string::npos) << e.what();
-  }
+  const auto refused = [&](const char* content, const std::string& needle) {
+    FILE* f = std::fopen(bad.c_str(), "w");
+    std::fputs(content, f);
+    std::fclose(f);
+    try {
+      loadCameraToBase(bad);
+      ADD_FAILURE() << "accepted:\n" << content;
+    } catch (const IoError& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  };
+  refused("format: plslam_camera_to_base 1\ntranslation: [0, 0, 0]\nrotation: [0, 0, 0, 2]\n", "bad.yaml:3: rotation quaternion has norm 2");
+  refused("# c\nformat: plslam_camera_to_base 1\ntranslation: [0, 0]\nrotation: [0, 0, 0, 1]\n",
+          "bad.yaml:3: translation must be a list of 3 numbers");
+  refused("format: plslam_camera_to_base 1\ntranslation: [0, 0, 0]\nrotation: [0, 0, x, 1]\n", "bad.yaml:3: rotation: 'x' is not a number");
+  refused("format: plslam_camera_to_base 1\ntranslation: [0, 0, 0]\n", "bad.yaml:1: no 'rotation' key");
+  refused("translation: [0, 0, 0]\nrotation: [0, 0, 0, 1]\n", "not a camera-to-base file");
+  refused("format: plslam_camera_to_base 1\ntranslation: [0, 0, 0\n", "bad.yaml:");
   EXPECT_THROW(loadCameraToBase(dir + "/missing.yaml"), IoError);
 }

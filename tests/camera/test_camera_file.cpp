@@ -108,6 +108,29 @@ TEST(CameraFile, NegativeFocalLengthsRoundTripAndViSPReadsThem) {
   EXPECT_DOUBLE_EQ(parseCameraFile(replaced(kGood, "<py>501</py>", "<py>-501</py>"), "neg.xml").fy, -501.0);
 }
 
+TEST(CameraFile, ByteOrderMarkAndCharacterReferencesAreRead) {
+  // Files written by Windows editors start with a UTF-8 byte order mark; &#NN; and &#xNN;
+  // are ordinary XML.
+  std::string content = "\xEF\xBB\xBF" + replaced(kGood, "<name>c</name>", "<name>&#x61;&#98;&lt;</name>");
+  content = replaced(content, "<px>500</px>", "<px>&#53;00</px>");
+  const PinholeCamera cam = parseCameraFile(content, "bom.xml");
+  EXPECT_EQ(cam.name, "ab<");
+  EXPECT_DOUBLE_EQ(cam.fx, 500.0);
+}
+
+TEST(CameraFile, NamesWithMarkupCharactersRoundTripAndViSPReadsThem) {
+  PinholeCamera cam = loadCameraFile(calib("tum_freiburg1.xml"));
+  cam.name = "a<b & \"c\" 'd' >";
+  const std::string path = test::scratchDir("camera") + "/escaped.xml";
+  saveCameraFile(path, cam, "a comment -- with <markup> & a dash at the end -");
+  EXPECT_EQ(loadCameraFile(path, cam.name).name, cam.name);
+  vpXmlParserCamera parser;
+  vpCameraParameters vp;
+  ASSERT_EQ(parser.parse(vp, path, cam.name, vpCameraParameters::perspectiveProjWithoutDistortion, 640, 480),
+            vpXmlParserCamera::SEQUENCE_OK);
+  EXPECT_DOUBLE_EQ(vp.get_px(), cam.fx);
+}
+
 TEST(CameraFile, ViSPFileWithoutRgbdAssumesMillimetres) {
   const std::string content = replaced(kGood, "<additional_information><rgbd><depth_scale>1000</depth_scale></rgbd></additional_information>", "");
   EXPECT_DOUBLE_EQ(parseCameraFile(content, "visp.xml").depth_scale, 1000.0);
@@ -124,9 +147,11 @@ TEST(CameraFile, MissingFileIsRefusedNamingIt) {
 
 TEST(CameraFile, MalformedFilesAreRefusedWithTheProblem) {
   EXPECT_NO_THROW(parseCameraFile(kGood, "good.xml"));
-  expectRefused("", {"root element"});
-  expectRefused("<root><camera>", {"not closed"});
-  expectRefused(replaced(kGood, "</model>", "</modelx>"), {"closes"});
+  // XML errors are pugixml's descriptions, with the line.
+  expectRefused("", {"malformed XML", "No document element"});
+  expectRefused("<root><camera>", {"bad.xml:1:", "mismatch"});
+  expectRefused(replaced(kGood, "</model>", "</modelx>"), {"bad.xml:3:", "mismatch"});
+  expectRefused(replaced(kGood, "<px>500</px>", "<px>5&bogus;00</px>"), {"bad.xml:3:", "not a number"});  // unknown entity: left as text
   expectRefused(replaced(kGood, "<root>", "<toor>").replace(std::string(kGood).rfind("</root>") , 7, "</toor>"), {"<root>"});
   expectRefused(replaced(kGood, "<px>500</px>", "<px>abc</px>"), {"px", "not a number"});
   EXPECT_NO_THROW(parseCameraFile(replaced(kGood, "<px>500</px>", "<px>-500</px>"), "negative.xml"));

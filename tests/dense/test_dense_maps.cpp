@@ -12,6 +12,7 @@
 #include "dense/dense_products.h"
 #include "dense/floor_plane.h"
 #include "dense/keyframe_cloud.h"
+#include "dense/occupancy_grid.h"
 #include "dense_scene.h"
 #include "support/test_support.h"
 
@@ -87,6 +88,36 @@ TEST(DenseOptions, OutOfRangeValuesAreRefusedNamingTheKey) {
   o = DenseOptions();
   o.grid_max_height_m = o.grid_min_height_m;
   EXPECT_THROW(validateDenseOptions(o), ConfigError);
+}
+
+TEST(GridYaml, ReadsMapServerYamlAndRefusesMalformedFilesNamingKeyAndLine) {
+  const std::string good =
+      "image: grid.pgm\nresolution: 0.05\norigin: [-1.5, 2.0, 0.0]\nnegate: 0\noccupied_thresh: 0.65\n"
+      "free_thresh: 0.196\nmode: trinary\nunknown_key: ignored  # as map_server does\n";
+  const GridYaml y = parseGridYaml(good, "grid.yaml");
+  EXPECT_EQ(y.image, "grid.pgm");
+  EXPECT_DOUBLE_EQ(y.origin.x(), -1.5);
+  EXPECT_DOUBLE_EQ(y.free_thresh, 0.196);
+  // The flow style map_server's own files use, and a block list, read the same.
+  EXPECT_DOUBLE_EQ(parseGridYaml("{image: g.pgm, resolution: 0.1, origin: [0, 0, 0], negate: 1, occupied_thresh: 0.6, "
+                                 "free_thresh: 0.2}", "flow.yaml").resolution, 0.1);
+  const auto refused = [&](const std::string& from, const std::string& to, const std::string& needle) {
+    std::string bad = good;
+    bad.replace(bad.find(from), from.size(), to);
+    try {
+      parseGridYaml(bad, "grid.yaml");
+      ADD_FAILURE() << "accepted:\n" << bad;
+    } catch (const IoError& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  };
+  refused("resolution: 0.05", "resolution: fine", "grid.yaml:2: resolution must be a number");
+  refused("resolution: 0.05", "resolution: 0", "grid.yaml:2: resolution must be > 0");
+  refused("origin: [-1.5, 2.0, 0.0]", "origin: [-1.5, 2.0]", "grid.yaml:3: origin must be a list of 3 numbers");
+  refused("origin: [-1.5, 2.0, 0.0]", "origin: [-1.5, x, 0.0]", "grid.yaml:3: origin: 'x' is not a number");
+  refused("negate: 0", "negate: 2", "grid.yaml:4: negate must be 0 or 1");
+  refused("free_thresh: 0.196\n", "", "no 'free_thresh' key");
+  refused("image: grid.pgm", "image: [grid.pgm", "grid.yaml:");
 }
 
 TEST(FloorPlane, StartsFromTheTopOfTheImageAlsoWhenFyIsNegative) {

@@ -160,7 +160,7 @@ TEST(DenseSlam, RunOutputsAreInOneMapFrameThatMatchesTheTruth) {
   const DenseProducts p = buildDenseProducts(r.slam->map(), r.slam->camera(), o);
   const std::string dir = test::scratchDir("dense_slam_map_frame");
   writeDenseProducts(dir, p, {}, o);
-  writeRunOutputs(dir, *r.slam, "", "", "", &p.frame);
+  writeRunOutputs(dir, *r.slam, "", nullptr, "", &p.frame);
 
   const MapFrame frame = parseMapFrameYaml(test::readFile(dir + "/" + kMapFrameYaml), kMapFrameYaml);
   octomap::OcTree tree(0.1);

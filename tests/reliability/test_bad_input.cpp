@@ -101,10 +101,8 @@ struct Case {
     return true;
   }
   int statsInt(const std::string& key) const {
-    std::smatch m;
-    const std::string stats = test::readFile(out + "/stats.json");
-    if (!std::regex_search(stats, m, std::regex("\"" + key + "\": (-?[0-9]+)"))) return -1;
-    return std::stoi(m[1]);
+    const nlohmann::json stats = test::readJson(out + "/stats.json");
+    return stats.is_object() && stats.contains(key) ? stats.at(key).get<int>() : -1;
   }
 };
 

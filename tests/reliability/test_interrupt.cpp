@@ -40,8 +40,7 @@ std::string problemWith(const std::string& path) {
       if (text.back() != '\n') return "no final newline";
       (void)t;
     } else if (name == "stats.json") {
-      if (text.rfind("{", 0) != 0 || text.size() < 3 || text.compare(text.size() - 2, 2, "}\n") != 0)
-        return "not a whole JSON object";
+      if (!nlohmann::json::accept(text) || !nlohmann::json::parse(text).is_object()) return "not a whole JSON object";
     } else if (name == "config.yaml") {
       (void)parseYamlSubset(text, path);
     } else if (name == "sparse_map.ply") {

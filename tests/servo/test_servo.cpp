@@ -183,11 +183,12 @@ TEST(VelocitySink, UdpSinkSendsOneJsonLinePerCommand) {
     buffer[n] = '\0';
     const std::string line(buffer);
     ASSERT_EQ(line.back(), '\n') << "one JSON line per datagram";
-    double t = 0, v = 0, w = 0;
-    ASSERT_EQ(std::sscanf(buffer, "{\"t\":%lf,\"v\":%lf,\"w\":%lf}", &t, &v, &w), 3) << line;
-    EXPECT_NEAR(t, 10.0 + i / 30.0, 1e-6);
-    EXPECT_NEAR(v, sent[i].v, 1e-6);
-    EXPECT_NEAR(w, sent[i].w, 1e-6);
+    EXPECT_EQ(line.find('\n'), line.size() - 1) << "one line";
+    const nlohmann::json j = test::parseJson(line, "datagram");
+    ASSERT_TRUE(j.is_object()) << line;
+    EXPECT_NEAR(j.at("t").get<double>(), 10.0 + i / 30.0, 1e-6);
+    EXPECT_NEAR(j.at("v").get<double>(), sent[i].v, 1e-9);
+    EXPECT_NEAR(j.at("w").get<double>(), sent[i].w, 1e-9);
   }
   ::close(fd);
 }

@@ -92,7 +92,7 @@ TEST(LiveSession, PushedFramesWithoutDropsTrackLikeTheSystem) {
   EXPECT_TRUE(outcomes.back().tracked);
 
   const std::string out = test::scratchDir("session") + "/out";
-  session.writeOutputs(out, "", false);
+  session.writeOutputs(out, nullptr, false);
   EXPECT_EQ(readTumTrajectory(out + "/trajectory.txt").size(), a.size());
   EXPECT_TRUE(std::filesystem::exists(out + "/map.plmap"));
 }
@@ -202,7 +202,7 @@ TEST(LiveSession, ReportedMapFrameIsTheOneOfTheWrittenFiles) {
     }
 
   const std::string out = dir + "/out";
-  session.writeOutputs(out, "", true);
+  session.writeOutputs(out, nullptr, true);
   const MapFrame written = parseMapFrameYaml(test::readFile(out + "/" + kMapFrameYaml), kMapFrameYaml);
   EXPECT_EQ(written.origin, "base");
   EXPECT_LT((written.T_map_world * outcomes.back().T_map_world.inverse()).angle(), 1e-6);
@@ -285,7 +285,7 @@ TEST(LiveSession, MapsGrowAndAreReadableWhileTheRunGoesOn) {
   // The final products are written in the frame the maps while running settled on.
   const std::optional<MapFrame> settled = session.liveMaps()->settledFrame();
   ASSERT_TRUE(settled.has_value()) << "the static scene's floor is found";
-  session.writeOutputs(scratch + "/final", "", true);
+  session.writeOutputs(scratch + "/final", nullptr, true);
   const MapFrame final_frame = parseMapFrameYaml(test::readFile(scratch + "/final/" + kMapFrameYaml), kMapFrameYaml);
   EXPECT_LT((final_frame.T_map_world.translation() - settled->T_map_world.translation()).norm(), 1e-6);
   EXPECT_NE(test::readFile(scratch + "/final/stats.json").find("\"live_map_updates\""), std::string::npos);

@@ -57,4 +57,15 @@ std::string readFile(const std::string& path) {
   return ss.str();
 }
 
+nlohmann::json parseJson(const std::string& text, const std::string& what) {
+  try {
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    ADD_FAILURE() << what << " is not JSON (" << e.what() << "):\n" << text;
+    return nullptr;
+  }
+}
+
+nlohmann::json readJson(const std::string& path) { return parseJson(readFile(path), path); }
+
 }  // namespace plslam::test

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <string>
 
 namespace plslam::test {
@@ -42,4 +44,8 @@ CommandResult runCommand(const std::string& command, bool with_stderr = true);
 CommandResult runPlslam(const std::string& arguments, bool with_stderr = true);
 /// The whole content of a file ("" when it cannot be read).
 std::string readFile(const std::string& path);
+/// `text` parsed as JSON; a test failure naming `what` (and null) when it is not JSON.
+nlohmann::json parseJson(const std::string& text, const std::string& what = "text");
+/// The JSON file at `path` (see parseJson).
+nlohmann::json readJson(const std::string& path);
 }  // namespace plslam::test

@@ -3,6 +3,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "support/test_support.h"
 #include "system/run_outputs.h"
 
 using namespace plslam;
@@ -43,10 +44,21 @@ TEST(RunOutputs, StatsJsonHasTheDocumentedFields) {
   s.frames = 10;
   s.tracked = 9;
   s.tracking_ms = {10, 20, 30};
-  const std::string json = statsToJson(s, "\"extra\": 1");
-  for (const char* key : {"\"frames\": 10", "\"tracked\": 9", "\"keyframes\"", "\"lost_events\"", "\"tracking_ms\"",
-                          "\"median\": 20", "\"p95\"", "\"features_ms\"", "\"line_reconstruction_rate\"", "\"fitting\"",
-                          "\"endpoints\"", "\"extra\": 1", "\"stages_ms\"", "\"orb_detect\"", "\"lsd\"", "\"lbd\"",
-                          "\"dynamic\"", "\"search\"", "\"pose_optimisation\"", "\"keyframe\""})
-    EXPECT_NE(json.find(key), std::string::npos) << key;
+  const nlohmann::json j = test::parseJson(statsToJson(s, {{"extra", 1}, {"dataset", "a \"quoted\" \\ path"}}), "stats.json");
+  EXPECT_EQ(j.at("frames"), 10);
+  EXPECT_EQ(j.at("tracked"), 9);
+  EXPECT_DOUBLE_EQ(j.at("tracked_fraction").get<double>(), 0.9);
+  EXPECT_EQ(j.at("tracking_ms").at("median"), 20);
+  EXPECT_EQ(j.at("extra"), 1);
+  EXPECT_EQ(j.at("dataset"), "a \"quoted\" \\ path");
+  for (const char* key : {"keyframes", "lost_events", "features_ms", "line_reconstruction_rate", "stages_ms", "dynamic",
+                          "modules", "recovery", "tracking_methods"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_TRUE(j.at("tracking_ms").contains("p95"));
+  EXPECT_TRUE(j.at("line_reconstruction_rate").contains("fitting"));
+  EXPECT_TRUE(j.at("line_reconstruction_rate").contains("endpoints"));
+  for (const char* stage : {"orb_detect", "lsd", "lbd", "dynamic", "search", "pose_optimisation", "keyframe"})
+    EXPECT_TRUE(j.at("stages_ms").contains(stage)) << stage;
+  // Members that are not an object are a programming error, not a silent string.
+  EXPECT_THROW(statsToJson(s, std::string("\"extra\": 1")), std::invalid_argument);
 }

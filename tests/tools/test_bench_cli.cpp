@@ -49,32 +49,6 @@ std::vector<std::string> tableRow(const std::string& md, const std::string& name
   return {};
 }
 
-/// Brackets and braces balance outside strings, and the text is one object.
-bool looksLikeOneJsonObject(const std::string& json) {
-  const size_t b = json.find_first_not_of(" \n"), e = json.find_last_not_of(" \n");
-  if (b == std::string::npos || json[b] != '{' || json[e] != '}') return false;
-  std::string stack;
-  bool in_string = false;
-  for (size_t i = b; i <= e; ++i) {
-    const char c = json[i];
-    if (in_string) {
-      if (c == '\\') ++i;
-      else if (c == '"') in_string = false;
-      continue;
-    }
-    if (c == '"') in_string = true;
-    else if (c == '{' || c == '[') stack.push_back(c);
-    else if (c == '}' || c == ']') {
-      if (stack.empty() || stack.back() != (c == '}' ? '{' : '[')) return false;
-      stack.pop_back();
-      if (stack.empty() && i != e) return false;
-    } else if (c == 'n' && json.compare(i, 3, "nan") == 0) {
-      return false;  // JSON has no NaN
-    }
-  }
-  return stack.empty() && !in_string;
-}
-
 }  // namespace
 
 TEST(BenchCli, SyntheticSceneGivesATableRowAndJsonAndAnnouncesTheTumSkip) {
@@ -98,12 +72,15 @@ TEST(BenchCli, SyntheticSceneGivesATableRowAndJsonAndAnnouncesTheTumSkip) {
   // The same table went to stdout.
   EXPECT_NE(r.out.find("| synthetic_static | 40 |"), std::string::npos);
 
-  const std::string json = readFile(out + "/results.json");
-  EXPECT_TRUE(looksLikeOneJsonObject(json)) << json;
-  EXPECT_NE(json.find("\"synthetic_static\""), std::string::npos);
-  const size_t k = json.find("\"ate_rmse\":");
-  ASSERT_NE(k, std::string::npos) << json;
-  EXPECT_NE(json.find("\"peak_rss_mb\":"), std::string::npos);
+  const nlohmann::json json = test::readJson(out + "/results.json");
+  ASSERT_TRUE(json.is_object());
+  EXPECT_TRUE(json.at("peak_rss_mb").is_number());
+  ASSERT_EQ(json.at("sequences").size(), 1u) << json;
+  const nlohmann::json& seq = json.at("sequences")[0];
+  EXPECT_EQ(seq.at("sequence"), "synthetic_static");
+  EXPECT_EQ(seq.at("frames"), 40);
+  EXPECT_NEAR(seq.at("ate_rmse").at("median").get<double>(), ate, 1e-4) << "the table's ATE";
+  EXPECT_EQ(seq.at("runs").size(), 1u);
 
   // Each run's outputs and the plot of the median run.
   namespace fs = std::filesystem;
@@ -127,8 +104,8 @@ TEST(BenchCli, MasksReplayTheSyntheticScenesMasksAndSayItInTheTable) {
   ASSERT_GE(row.size(), 11u);
   EXPECT_EQ(row[9], "replayed masks") << "dynamic column";
   // The run really had the replay segmenter, not geometry only.
-  const std::string stats = readFile(out + "/synthetic_dynamic/run1/stats.json");
-  EXPECT_NE(stats.find("\"segmenter\": \"replay\""), std::string::npos) << stats;
+  const nlohmann::json stats = test::readJson(out + "/synthetic_dynamic/run1/stats.json");
+  EXPECT_EQ(stats.at("dynamic").at("segmenter"), "replay") << stats;
 }
 
 TEST(BenchCli, MasksWithoutAModelForTheTumRowsAreRefusedBeforeAnyRun) {

@@ -46,9 +46,9 @@ TEST(RunCli, WritesEveryOutputAndTheAte) {
                         "stats.json", "config.yaml", "octomap.bt"})
     EXPECT_TRUE(fs::exists(scratch + "/out/" + f)) << f;
   EXPECT_FALSE(fs::exists(scratch + "/out/trajectory_base.txt")) << "only with a camera-to-base transform";
-  const std::string stats = test::readFile(scratch + "/out/stats.json");
-  EXPECT_NE(stats.find("\"frames\": 30"), std::string::npos) << stats;
-  EXPECT_NE(stats.find("\"ate_rmse_m\""), std::string::npos) << stats;
+  const nlohmann::json stats = test::readJson(scratch + "/out/stats.json");
+  EXPECT_EQ(stats.at("frames"), 30) << stats;
+  EXPECT_TRUE(stats.at("ate_rmse_m").is_number()) << stats;
   // The effective configuration reproduces the run when given back.
   const auto again = test::runPlslam(runArgs(data, scratch + "/out2") + " --quiet --config " + scratch + "/out/config.yaml");
   EXPECT_EQ(again.status, 0) << again.output;

@@ -131,17 +131,12 @@ std::string cell(const Spread& s, const char* fmt, int runs, double scale = 1.0)
   return text;
 }
 
-std::string jsonNumber(double x) {
-  if (!std::isfinite(x)) return "null";
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%.6g", x);
-  return buf;
+Json spreadJson(const Spread& s) {
+  return {{"median", s.median}, {"min", s.min}, {"max", s.max}, {"runs", s.count}};
 }
 
-std::string jsonSpread(const Spread& s) {
-  return "{\"median\": " + jsonNumber(s.median) + ", \"min\": " + jsonNumber(s.min) + ", \"max\": " +
-         jsonNumber(s.max) + ", \"runs\": " + std::to_string(s.count) + "}";
-}
+// Empty text as null.
+Json textOrNull(const std::string& text) { return text.empty() ? Json(nullptr) : Json(text); }
 
 std::vector<std::string> splitList(const std::string& text) {
   std::vector<std::string> out;
@@ -369,65 +364,76 @@ std::string profileTable(const std::vector<SequenceResult>& results) {
   return os.str();
 }
 
+Json runJson(const RunFigures& x) {
+  Json stages = Json::object();
+  for (int st = 0; st < kStageCount; ++st) stages[stageName(static_cast<Stage>(st))] = x.stage_median[st];
+  return {{"run", x.run},
+          {"dir", x.dir},
+          {"ate_rmse", x.ate},
+          {"ate_pairs", x.ate_pairs},
+          {"rpe_trans_rmse", x.rpe_trans},
+          {"rpe_rot_rmse_deg", x.rpe_rot},
+          {"rpe_pairs", x.rpe_pairs},
+          {"frames_fed", x.fed},
+          {"tracked", x.tracked},
+          {"poses", x.estimate.size()},
+          {"tracked_fraction", x.tracked_fraction},
+          {"keyframes", x.keyframes},
+          {"skipped_frames", x.skipped_frames},
+          {"tracking_ms", {{"median", x.tracking_median}, {"p95", x.tracking_p95}, {"max", x.tracking_max}}},
+          {"features_ms_median", x.features_median},
+          {"stages_ms_median", stages},
+          {"segmentation_ms_median", x.segmentation_median},
+          {"local_ba_ms_median", x.local_ba_median},
+          {"wall_s", x.wall_s},
+          {"eval_error", textOrNull(x.eval_error)}};
+}
+
+Json sequenceJson(const SequenceResult& s, const BenchSettings& settings) {
+  const auto& r = s.runs;
+  const auto figure = [&](double (*of)(const RunFigures&)) { return spreadJson(spread(collect(r, of))); };
+  Json runs = Json::array();
+  for (const RunFigures& x : r) runs.push_back(runJson(x));
+  return {{"sequence", s.spec.name},
+          {"kind", s.spec.kind},
+          {"dynamic", dynamicLabel(settings, s.spec)},
+          {"dataset", s.spec.dir},
+          {"camera", s.spec.camera_file},
+          {"frames", s.frames},
+          {"ate_rmse", figure([](const RunFigures& x) { return x.ate; })},
+          {"rpe_trans_rmse", figure([](const RunFigures& x) { return x.rpe_trans; })},
+          {"rpe_rot_rmse_deg", figure([](const RunFigures& x) { return x.rpe_rot; })},
+          {"tracked_fraction", figure([](const RunFigures& x) { return x.tracked_fraction; })},
+          {"keyframes", figure([](const RunFigures& x) { return double(x.keyframes); })},
+          {"tracking_ms_median", figure([](const RunFigures& x) { return x.tracking_median; })},
+          {"tracking_ms_p95", figure([](const RunFigures& x) { return x.tracking_p95; })},
+          {"wall_s", s.wall_s},
+          {"render_s", s.render_s},
+          {"peak_rss_mb_so_far", s.peak_rss_mb},
+          {"median_run", s.median_run >= 0 ? Json(r[s.median_run].run) : Json(nullptr)},
+          {"plot", textOrNull(s.plot)},
+          {"error", textOrNull(s.error)},
+          {"runs", runs}};
+}
+
 std::string resultsJson(const std::vector<SequenceResult>& results, const std::vector<std::string>& notes,
                         const BenchSettings& settings, const std::string& shared, double peak_mb, double wall_s,
                         bool interrupted) {
-  std::ostringstream os;
-  os << "{\n  \"build_type\": " << jsonQuote(PLSLAM_BUILD_TYPE)
-     << ",\n  \"mode\": " << jsonQuote(settings.options.sequential ? "sequential" : "threaded")
-     << ",\n  \"pace\": " << jsonQuote(settings.options.sequential ? "none" : settings.pace == Pace::kRecorded ? "recorded" : "fast")
-     << ",\n  \"runs_per_sequence\": " << settings.runs << ",\n  \"shared_dir\": " << jsonQuote(shared)
-     << ",\n  \"modules\": {\"lines\": " << (settings.options.use_lines ? "true" : "false")
-     << ", \"dynamic\": " << (settings.options.dynamic.enabled ? "true" : "false") << ", \"loop_closure\": " << (settings.options.use_loop ? "true" : "false") << "}"
-     << ",\n  \"peak_rss_mb\": " << jsonNumber(peak_mb) << ",\n  \"wall_s\": " << jsonNumber(wall_s)
-     << ",\n  \"interrupted\": " << (interrupted ? "true" : "false") << ",\n  \"notes\": [";
-  for (size_t i = 0; i < notes.size(); ++i) os << (i ? ", " : "") << jsonQuote(notes[i]);
-  os << "],\n  \"sequences\": [";
-  for (size_t i = 0; i < results.size(); ++i) {
-    const SequenceResult& s = results[i];
-    const auto& r = s.runs;
-    os << (i ? "," : "") << "\n    {\"sequence\": " << jsonQuote(s.spec.name) << ", \"kind\": " << jsonQuote(s.spec.kind)
-       << ", \"dynamic\": " << jsonQuote(dynamicLabel(settings, s.spec))
-       << ", \"dataset\": " << jsonQuote(s.spec.dir) << ", \"camera\": " << jsonQuote(s.spec.camera_file)
-       << ", \"frames\": " << s.frames << ",\n     \"ate_rmse\": "
-       << jsonSpread(spread(collect(r, [](const RunFigures& x) { return x.ate; })))
-       << ",\n     \"rpe_trans_rmse\": " << jsonSpread(spread(collect(r, [](const RunFigures& x) { return x.rpe_trans; })))
-       << ",\n     \"rpe_rot_rmse_deg\": "
-       << jsonSpread(spread(collect(r, [](const RunFigures& x) { return x.rpe_rot; })))
-       << ",\n     \"tracked_fraction\": "
-       << jsonSpread(spread(collect(r, [](const RunFigures& x) { return x.tracked_fraction; })))
-       << ",\n     \"keyframes\": "
-       << jsonSpread(spread(collect(r, [](const RunFigures& x) { return double(x.keyframes); })))
-       << ",\n     \"tracking_ms_median\": "
-       << jsonSpread(spread(collect(r, [](const RunFigures& x) { return x.tracking_median; })))
-       << ",\n     \"tracking_ms_p95\": "
-       << jsonSpread(spread(collect(r, [](const RunFigures& x) { return x.tracking_p95; })))
-       << ",\n     \"wall_s\": " << jsonNumber(s.wall_s) << ", \"render_s\": " << jsonNumber(s.render_s)
-       << ", \"peak_rss_mb_so_far\": " << jsonNumber(s.peak_rss_mb)
-       << ", \"median_run\": " << (s.median_run >= 0 ? std::to_string(r[s.median_run].run) : "null")
-       << ", \"plot\": " << (s.plot.empty() ? "null" : jsonQuote(s.plot))
-       << ", \"error\": " << (s.error.empty() ? "null" : jsonQuote(s.error)) << ",\n     \"runs\": [";
-    for (size_t k = 0; k < r.size(); ++k) {
-      const RunFigures& x = r[k];
-      os << (k ? "," : "") << "\n       {\"run\": " << x.run << ", \"dir\": " << jsonQuote(x.dir)
-         << ", \"ate_rmse\": " << jsonNumber(x.ate) << ", \"ate_pairs\": " << x.ate_pairs
-         << ", \"rpe_trans_rmse\": " << jsonNumber(x.rpe_trans) << ", \"rpe_rot_rmse_deg\": " << jsonNumber(x.rpe_rot)
-         << ", \"rpe_pairs\": " << x.rpe_pairs << ", \"frames_fed\": " << x.fed << ", \"tracked\": " << x.tracked
-         << ", \"poses\": " << x.estimate.size() << ", \"tracked_fraction\": " << jsonNumber(x.tracked_fraction)
-         << ", \"keyframes\": " << x.keyframes << ", \"skipped_frames\": " << x.skipped_frames
-         << ", \"tracking_ms\": {\"median\": " << jsonNumber(x.tracking_median)
-         << ", \"p95\": " << jsonNumber(x.tracking_p95) << ", \"max\": " << jsonNumber(x.tracking_max)
-         << "}, \"features_ms_median\": " << jsonNumber(x.features_median) << ", \"stages_ms_median\": {";
-      for (int st = 0; st < kStageCount; ++st)
-        os << (st ? ", " : "") << jsonQuote(stageName(static_cast<Stage>(st))) << ": " << jsonNumber(x.stage_median[st]);
-      os << "}, \"segmentation_ms_median\": " << jsonNumber(x.segmentation_median)
-         << ", \"local_ba_ms_median\": " << jsonNumber(x.local_ba_median) << ", \"wall_s\": " << jsonNumber(x.wall_s)
-         << ", \"eval_error\": " << (x.eval_error.empty() ? "null" : jsonQuote(x.eval_error)) << "}";
-    }
-    os << "]}";
-  }
-  os << "\n  ]\n}\n";
-  return os.str();
+  const SystemOptions& o = settings.options;
+  Json sequences = Json::array();
+  for (const SequenceResult& s : results) sequences.push_back(sequenceJson(s, settings));
+  const Json j = {{"build_type", PLSLAM_BUILD_TYPE},
+                  {"mode", o.sequential ? "sequential" : "threaded"},
+                  {"pace", o.sequential ? "none" : settings.pace == Pace::kRecorded ? "recorded" : "fast"},
+                  {"runs_per_sequence", settings.runs},
+                  {"shared_dir", shared},
+                  {"modules", {{"lines", o.use_lines}, {"dynamic", o.dynamic.enabled}, {"loop_closure", o.use_loop}}},
+                  {"peak_rss_mb", peak_mb},
+                  {"wall_s", wall_s},
+                  {"interrupted", interrupted},
+                  {"notes", notes},
+                  {"sequences", sequences}};
+  return jsonText(j);
 }
 
 /// Says `text` on stderr now and keeps it for the notes under the table.

@@ -32,6 +32,7 @@
 #include "commands.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/json.h"
 #include "core/log.h"
 #include "dynamic/segmenter.h"
 #include "dynamic/semantic_labels.h"
@@ -248,11 +249,16 @@ int runEvalLoops(int argc, char** argv) {
       curves[v].proposals.push_back(p);
     }
   }
-  std::ostringstream csv, json;
+  std::ostringstream csv;
   csv << "variant,threshold,precision,recall,true_positives,false_positives\n";
-  json << "{\n  \"dataset\": \"" << dir << "\", \"frames\": " << frames.size() << ", \"queries_with_true_loop\": "
-       << queries_with_truth << ", \"frames_with_instances\": " << with_instances << ", \"distance_m\": " << distance << ", \"angle_deg\": " << angle_deg
-       << ", \"min_gap_s\": " << gap_s << ",\n  \"variants\": {";
+  Json json = {{"dataset", dir},
+               {"frames", frames.size()},
+               {"queries_with_true_loop", queries_with_truth},
+               {"frames_with_instances", with_instances},
+               {"distance_m", distance},
+               {"angle_deg", angle_deg},
+               {"min_gap_s", gap_s},
+               {"variants", Json::object()}};
   for (size_t v = 0; v < curves.size(); ++v) {
     Curve& c = curves[v];
     c.pr = precisionRecall(c.proposals, queries_with_truth);
@@ -260,9 +266,10 @@ int runEvalLoops(int argc, char** argv) {
     for (const PrPoint& p : c.pr.points)
       csv << c.name << "," << p.threshold << "," << p.precision << "," << p.recall << "," << p.true_positives << ","
           << p.false_positives << "\n";
-    json << (v ? "," : "") << "\n    \"" << c.name << "\": {\"recall_at_precision_1\": " << c.pr.recall_at_precision_1
-         << ", \"precision_at_threshold\": " << c.at_threshold.precision << ", \"recall_at_threshold\": "
-         << c.at_threshold.recall << ", \"proposals\": " << c.proposals.size() << "}";
+    json["variants"][c.name] = {{"recall_at_precision_1", c.pr.recall_at_precision_1},
+                                {"precision_at_threshold", c.at_threshold.precision},
+                                {"recall_at_threshold", c.at_threshold.recall},
+                                {"proposals", c.proposals.size()}};
     std::printf("%-18s recall at precision 1.0: %.3f; at threshold %.2f: precision %.3f recall %.3f  (%d queries with a "
                 "true loop, %zu proposals)\n",
                 c.name.c_str(), c.pr.recall_at_precision_1, threshold, c.at_threshold.precision, c.at_threshold.recall,
@@ -275,21 +282,24 @@ int runEvalLoops(int argc, char** argv) {
   at_verified.precision = verified.accepted ? static_cast<double>(verified.right_pose) / verified.accepted : 1.0;
   at_verified.recall = queries_with_truth ? static_cast<double>(verified.same_place) / queries_with_truth : 0.0;
   const double semantic_margin = minPrecisionMargin(curves[3].pr, curves[2].pr);
-  json << "\n  },\n  \"threshold\": " << threshold << ",\n  \"verified_at_threshold\": {\"precision\": "
-       << at_verified.precision << ", \"recall\": " << at_verified.recall << ", \"verifications\": " << verifications
-       << ", \"accepted\": " << verified.accepted << ", \"right_pose\": " << verified.right_pose
-       << ", \"same_place\": " << verified.same_place << ", \"worst_right_translation_m\": " << verified.worst_right_t_m
-       << "},\n  \"semantic_min_precision_margin\": " << semantic_margin;
+  json["threshold"] = threshold;
+  json["verified_at_threshold"] = {{"precision", at_verified.precision},
+                                   {"recall", at_verified.recall},
+                                   {"verifications", verifications},
+                                   {"accepted", verified.accepted},
+                                   {"right_pose", verified.right_pose},
+                                   {"same_place", verified.same_place},
+                                   {"worst_right_translation_m", verified.worst_right_t_m}};
+  json["semantic_min_precision_margin"] = semantic_margin;
   std::printf("ORB+LBD+semantic, verified at threshold %.2f: precision %.3f recall %.3f (%d verified, %d accepted, %d "
               "with the right relative pose, %d within the ground-truth radius)\n",
               threshold, at_verified.precision, at_verified.recall, verifications, verified.accepted,
               verified.right_pose, verified.same_place);
   std::printf("semantic vs ORB+LBD: minimum precision margin over the curve %+.3f (>= 0: at least as good everywhere)\n",
               semantic_margin);
-  json << "\n}\n";
   std::filesystem::create_directories(out);
   writeFileAtomically(out + "/pr.csv", csv.str());
-  writeFileAtomically(out + "/summary.json", json.str());
+  writeFileAtomically(out + "/summary.json", jsonText(json));
   drawCurves(out + "/pr.png", curves, at_verified, std::filesystem::path(dir).filename().string() + ": loop detection P-R");
   std::printf("outputs: %s/pr.csv pr.png summary.json\n", out.c_str());
   return 0;

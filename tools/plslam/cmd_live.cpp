@@ -102,8 +102,8 @@ int runLiveCommand(int argc, char** argv) {
   slam.finish();
   // The final products in the frame the maps while running settled on (as plslam run).
   std::optional<MapFrame> frame = maps ? maps->settledFrame() : std::nullopt;
-  std::string stats_extra = liveStatsJson(stats);
-  if (maps) stats_extra += ", " + liveMapsStatsJson(maps->stats());
+  Json stats_extra = liveStatsJson(stats);
+  if (maps) stats_extra.update(liveMapsStatsJson(maps->stats()));
   if (dense && !slam.map().keyframes().empty())
     writeDenseMaps(slam.map(), camera, options.dense, {}, out, progress, frame ? &*frame : nullptr, &frame);
   writeRunOutputs(out, slam, config.config_yaml, stats_extra, "",

@@ -205,8 +205,8 @@ int runRun(int argc, char** argv) {
   // (a loaded map keeps its own, so that its sessions share one map frame; the maps while
   // running keep the one they settled on, so that the final products line up with them).
   if (maps && !frame) frame = maps->settledFrame();
-  std::string stats_extra = runStatsExtra(dataset, evaluation);
-  if (maps) stats_extra += ", " + liveMapsStatsJson(maps->stats());
+  Json stats_extra = runStatsExtra(dataset, evaluation);
+  if (maps) stats_extra.update(liveMapsStatsJson(maps->stats()));
   const bool dense_done = !dense || writeDenseMaps(slam.map(), camera, options.dense, {}, out, progress,
                                                    frame ? &*frame : nullptr, &frame);
   writeRunOutputs(out, slam, config.config_yaml, stats_extra,

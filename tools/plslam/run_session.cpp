@@ -73,13 +73,11 @@ FeedResult feedFrames(System* slam, FrameSource* source, const std::function<voi
   return result;
 }
 
-std::string RunEvaluation::jsonMembers() const {
-  if (!ok) return "";
-  std::ostringstream os;
-  os.precision(6);
-  os << "\"ate_rmse_m\": " << result.ate.stats.rmse << ", \"rpe_trans_rmse_m\": " << result.rpe.trans.rmse
-     << ", \"rpe_rot_rmse_deg\": " << result.rpe.rot_deg.rmse;
-  return os.str();
+Json RunEvaluation::jsonMembers() const {
+  if (!ok) return Json::object();
+  return {{"ate_rmse_m", result.ate.stats.rmse},
+          {"rpe_trans_rmse_m", result.rpe.trans.rmse},
+          {"rpe_rot_rmse_deg", result.rpe.rot_deg.rmse}};
 }
 
 std::string RunEvaluation::text() const {
@@ -104,11 +102,9 @@ RunEvaluation evaluateRun(const FrameSource& source, const Trajectory& estimate)
   return ev;
 }
 
-std::string runStatsExtra(const FrameSource& source, const RunEvaluation& evaluation) {
-  std::string extra =
-      "\"dataset\": " + jsonQuote(source.location()) + ", \"skipped_frames\": " + std::to_string(source.skippedTotal());
-  const std::string ev = evaluation.jsonMembers();
-  if (!ev.empty()) extra += ", " + ev;
+Json runStatsExtra(const FrameSource& source, const RunEvaluation& evaluation) {
+  Json extra = {{"dataset", source.location()}, {"skipped_frames", source.skippedTotal()}};
+  extra.update(evaluation.jsonMembers());
   return extra;
 }
 

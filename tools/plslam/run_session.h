@@ -75,9 +75,9 @@ struct RunEvaluation {
   EvalResult result;
   std::string error;       ///< why an attempted evaluation failed
 
-  /// JSON members (no braces) for stats.json: ate_rmse_m, rpe_trans_rmse_m, rpe_rot_rmse_deg;
-  /// empty unless ok.
-  std::string jsonMembers() const;
+  /// JSON members for stats.json: ate_rmse_m, rpe_trans_rmse_m, rpe_rot_rmse_deg; an
+  /// empty object unless ok.
+  Json jsonMembers() const;
   /// One line for people: the figures, or why they are missing; empty when not attempted.
   std::string text() const;
 };
@@ -85,6 +85,6 @@ struct RunEvaluation {
 RunEvaluation evaluateRun(const FrameSource& source, const Trajectory& estimate);
 
 /// The extra stats.json members of a run: dataset folder or bag, skipped frames, evaluation.
-std::string runStatsExtra(const FrameSource& source, const RunEvaluation& evaluation);
+Json runStatsExtra(const FrameSource& source, const RunEvaluation& evaluation);
 
 }  // namespace plslam::cli

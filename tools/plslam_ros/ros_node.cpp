@@ -231,10 +231,13 @@ void RosNode::onMaps(const LiveMapsUpdate& update) {
   if (update.grid->width > 0) grid_pub_.publish(gridMessage(*update.grid, T_pub_map, header));
 }
 
-std::string RosNode::statsExtra() const {
+Json RosNode::statsExtra() const {
   const SessionCounts c = session()->counts();
-  return str("\"ros_received\": ", c.received, ", \"ros_processed\": ", c.processed, ", \"ros_dropped\": ", c.dropped,
-             ", \"ros_before_camera\": ", before_camera_.load(), ", \"ros_unconvertible\": ", unconvertible_.load());
+  return {{"ros_received", c.received},
+          {"ros_processed", c.processed},
+          {"ros_dropped", c.dropped},
+          {"ros_before_camera", before_camera_.load()},
+          {"ros_unconvertible", unconvertible_.load()}};
 }
 
 bool RosNode::onSave(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response) {

@@ -27,6 +27,7 @@
 #include <mutex>
 #include <string>
 
+#include "core/json.h"
 #include "session/live_session.h"
 #include "session/robot_frames.h"
 
@@ -73,7 +74,7 @@ class RosNode {
   void onSparseTimer(const ros::WallTimerEvent&);
   void onMaps(const LiveMapsUpdate& update);
   bool onSave(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
-  std::string statsExtra() const;
+  Json statsExtra() const;
   LiveSession* session() const;
 
   ros::NodeHandle nh_, pnh_;
