@@ -217,9 +217,9 @@ Segmentation DynamicFilter::latestSegmentation(const RgbdFrame& frame, DynamicFr
 
 // Each keypoint of the earlier frame is searched around where it was, not where the tracker's
 // predicted motion puts it: the check must stay independent of the prediction, which walkers
-// covering the view can bias. (Searching around the prediction matched a 180 deg/s turn of
-// the fast scene far better, ATE 0.0160 -> 0.0123 m, but let the crowd in on the synthetic
-// crowded scene, 0.026 -> 0.22-0.29 m, where the prediction was off by 20 px and more.)
+// covering the view can bias. Searching around the prediction matched fast turns far better
+// but let the crowd in on the synthetic crowded scene (docs/RESULTS.md, "Where the fast
+// scene's error comes from").
 void DynamicFilter::matchAdjacent(const FrameFeatures& before, const FrameFeatures& f,
                                   std::vector<MotionCorrespondence>* corr, std::vector<int>* corr_keypoint) const {
   if (f.points.empty() || before.points.empty()) return;
