@@ -53,7 +53,7 @@ struct DynamicFilterOptions {
   bool spread_labels = true;       ///< spread motion labels over the graph of all keypoints (label_spread.h)
   /// ... also on frames that have instance masks. Off by default: the masks already give a moving
   /// object's extent, and on fr3_sitting_static spreading grew moving areas from stray flags onto
-  /// the static background (ATE 0.0100 m with, 0.0084 m without; synthetic scenes unchanged or better).
+  /// the static background (docs/RESULTS.md, "Label spreading on frames with masks").
   bool spread_with_masks = false;
   LabelSpreadOptions spread;       ///< how
   DynamicMaskOptions mask;         ///< fusion into the dynamic mask

@@ -8,8 +8,8 @@
 // has refined those landmarks (its reference keyframe is some keyframes old, or the run has
 // ended), its pose is optimised again against their current positions, starting from where
 // it was, with the tracker's robust pose-only optimiser. Landmarks culled since are left
-// out. On fr3_sitting_static_150 with YOLO masks this took the ATE from 0.0084 to 0.0065 m
-// (README, "Frame refinement"); the poses published while tracking are not changed.
+// out. It lowered the ATE on fr3_sitting_static_150 with YOLO masks (docs/RESULTS.md, "Frame
+// refinement"); the poses published while tracking are not changed.
 //
 // Stateless.
 #pragma once

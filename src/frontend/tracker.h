@@ -104,7 +104,7 @@ struct TrackerOptions {
 
   /// Depth trusted like ORB-SLAM's virtual stereo pixel (sigma_z ~ z^2 / 40): a tighter
   /// sigma lets depth noise at corners and the colour/depth time offset drag the pose
-  /// (fr1_xyz ATE 0.034 m at 0.0015 against 0.011 m at 0.025, points only).
+  /// (docs/RESULTS.md, "Design choices measured earlier").
   static PoseOptimizerOptions trackingPoseOptions() {
     PoseOptimizerOptions o;
     o.model.depth_sigma_coeff = 0.025;
