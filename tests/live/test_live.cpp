@@ -113,6 +113,30 @@ TEST(LiveCli, SequentialLiveRunIsReproducedByRunOnItsRecording) {
   EXPECT_EQ(test::readFile(live + "/keyframes.txt"), test::readFile(replay + "/keyframes.txt"));
 }
 
+// plslam live takes plslam run's switches (one declaration, tools/plslam/run_session.h):
+// starting from a saved map and localising in it tracks every frame and leaves the map as it
+// was; the replay segmenter, which needs a recorded folder's masks, is refused.
+TEST(LiveCli, StartsFromASavedMapAndLocalisesInItAsRunDoes) {
+  const std::string dir = test::syntheticSequence(synth::SceneKind::kStatic, 120);
+  const std::string scratch = test::scratchDir("livecli_map");
+  const std::string map_path = scratch + "/saved.plmap";
+  auto r = test::runPlslam("run --dataset " + dir + " --calib " + dir + "/camera.xml --out " + scratch +
+                           "/map --max-frames 30 --sequential --no-dense --quiet --save-map " + map_path);
+  ASSERT_EQ(r.status, 0) << r.output;
+  r = test::runPlslam("live --fake " + dir + " --max-frames 20 --sequential --no-dense --quiet --map " + map_path +
+                      " --localize --out " + scratch + "/live");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const nlohmann::json stats = test::readJson(scratch + "/live/stats.json");
+  EXPECT_EQ(stats.at("tracked"), 20) << stats;
+  const nlohmann::json saved = test::readJson(scratch + "/map/stats.json");
+  EXPECT_EQ(stats.at("keyframes"), saved.at("keyframes")) << "--localize makes no keyframes";
+  EXPECT_EQ(stats.at("map_points"), saved.at("map_points")) << "--localize adds no map points";
+
+  r = test::runPlslam("live --fake " + dir + " --max-frames 5 --segmenter replay --quiet --out " + scratch + "/replay");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("use plslam run"), std::string::npos) << r.output;
+}
+
 TEST(LiveCli, WithoutRealSenseLiveAndRecordSayWhyAndExitTwo) {
   if (realSenseAvailable()) GTEST_SKIP() << "this ViSP has librealsense2";
   const std::string scratch = test::scratchDir("livecli");

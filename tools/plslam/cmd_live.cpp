@@ -32,15 +32,14 @@ int runLiveCommand(int argc, char** argv) {
       .flag("no-drop", "never drop frames: the grabber waits for tracking")
       .flag("sequential", "deterministic single-thread System; implies --no-drop, so plslam run --sequential on the "
                           "--record folder gives the same trajectory")
-      .option("config", "YAML run options (as plslam run)")
-      .flag("no-lines", "points only: no line features")
-      .option("base", "camera-to-base file of plslam calib base (as plslam run --base)")
       .flag("no-dense", "no dense products (cloud, OctoMaps, 2D grid), neither while running nor at the end")
       .option("fake", "testing: play this recorded TUM folder (with camera.xml) at camera rate instead of the camera")
       .option("fake-speed", "testing: playback speed of --fake (1 = its stamps, 0 = as fast as it is read)", "1")
       .option("log-level", "debug, info, warn, error or off", "warn")
       .flag("quiet", "no progress line")
-      .epilog(
+      .option("save-map", "where to write the map at the end (default: <out>/map.plmap)");
+  addRunSwitches(&args);  // the same as plslam run's
+  args.epilog(
           "outputs: as plslam run (trajectory.txt, keyframes.txt, sparse_map.ply, stats.json with the live_* frame "
           "counts, config.yaml,\nand unless --no-dense the dense products, updated while it runs every "
           "dense.live_every_keyframes keyframes or\ndense.live_every_s seconds and written again at the end).\n"
@@ -51,12 +50,9 @@ int runLiveCommand(int argc, char** argv) {
   setLogLevel(parseLogLevel(args.str("log-level")));
 
   // The switches as plslam run's (session/run_config.h): the calibration keys are loaded there.
-  RunSwitches switches;
-  switches.config = args.str("config");
-  switches.no_lines = args.has("no-lines");
-  switches.sequential = args.has("sequential");
-  switches.base = args.str("base");
-  RunConfig config = makeRunConfig(switches, "plslam live: effective configuration");
+  RunConfig config = makeRunConfig(runSwitches(args), "plslam live: effective configuration");
+  if (config.options.segmenter.kind == SegmenterKind::kReplay)
+    throw ConfigError("plslam live: --segmenter replay replays a recorded folder's masks: use plslam run on it");
   const SystemOptions& options = config.options;
   LiveOptions live;
   live.drop_frames = !(args.has("no-drop") || args.has("sequential"));
@@ -77,9 +73,14 @@ int runLiveCommand(int argc, char** argv) {
   recording.depth_scale = device.depth_scale;
 
   const std::string out = args.str("out");
-  System slam(camera, options);
+  if (config.map && (camera.width != config.map->camera.width || camera.height != config.map->camera.height))
+    throw ConfigError(str("plslam live: the camera's images are ", camera.width, "x", camera.height,
+                          ", the map was built from ", config.map->camera.width, "x", config.map->camera.height));
+  System slam(camera, options, config.map ? std::move(config.map->map) : Map());
+  // A saved map keeps its own frame, so that its sessions share one map frame.
+  std::optional<MapFrame> frame = config.map ? config.map->frame : std::nullopt;
   const bool dense = !args.has("no-dense") && options.dense.enabled;
-  std::unique_ptr<LiveMaps> maps = dense ? makeLiveMaps(&slam, out) : nullptr;
+  std::unique_ptr<LiveMaps> maps = dense ? makeLiveMaps(&slam, out, frame ? &*frame : nullptr) : nullptr;
   slam.start();
   if (maps) maps->start();
   const bool progress = !args.has("quiet");
@@ -100,14 +101,14 @@ int runLiveCommand(int argc, char** argv) {
   grabber->close();
   if (maps) maps->stop();
   slam.finish();
-  // The final products in the frame the maps while running settled on (as plslam run).
-  std::optional<MapFrame> frame = maps ? maps->settledFrame() : std::nullopt;
+  // The final products in the saved map's frame, else the one the maps while running settled
+  // on (as plslam run).
+  if (maps && !frame) frame = maps->settledFrame();
   Json stats_extra = liveStatsJson(stats);
   if (maps) stats_extra.update(liveMapsStatsJson(maps->stats()));
   if (dense && !slam.map().keyframes().empty())
     writeDenseMaps(slam.map(), camera, options.dense, {}, out, progress, frame ? &*frame : nullptr, &frame);
-  writeRunOutputs(out, slam, config.config_yaml, stats_extra, "",
-                  frame ? &*frame : nullptr);
+  writeRunOutputs(out, slam, config.config_yaml, stats_extra, args.str("save-map"), frame ? &*frame : nullptr);
 
   const RunStats st = slam.stats();
   const Summary tms = summarize(st.tracking_ms);

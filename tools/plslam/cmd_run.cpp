@@ -32,28 +32,16 @@ Args runArguments() {
       .option("calib", "camera file (ViSP XML, see calib/); with --map, default: the map's camera; a bag's default: its camera_info")
       .option("groundtruth", "TUM trajectory to evaluate against (default: the folder's groundtruth.txt; a bag has none)")
       .option("out", "output folder (created if needed)", "", true)
-      .option("config", "YAML run options (plslam run --print-config shows every key)")
       .option("max-frames", "process only the first N frames (0 = all)", "0")
       .flag("sequential", "deterministic single-thread order (identical output across runs)")
       .flag("realtime", "feed each frame at its recorded time, as a camera would (the mapping threads get the time between frames)")
-      .flag("no-lines", "points only: no line features")
-      .option("segmenter", "instance masks: none, replay (the folder's masks/, as plslam synth writes), or a YOLOv8-seg .onnx file",
-              "none")
-      .option("classes", "class names file, one a line, in the model's order (default: the COCO names)")
-      .option("dynamic-classes", "comma-separated class names that may move (default: person, animals, vehicles)")
-      .flag("allow-missing-model", "if the model cannot be used, warn and go on with the geometric checks only")
-      .flag("no-dynamic", "no rejection of moving objects at all")
-      .flag("no-loop", "no loop closure")
       .flag("no-dense", "do not write the dense products (cloud, OctoMaps, 2D grid), neither while running nor at the end")
       .flag("print-config", "print the effective configuration and exit")
       .option("log-level", "debug, info, warn, error or off", "warn")
       .flag("quiet", "no progress line")
-      .option("map", "start from a saved map (a run's map.plmap); its configuration is the base of this run's")
-      .flag("localize", "with --map: track in the map without changing it (no keyframes, no mapping); poses in its world frame")
-      .option("save-map", "where to write the map at the end (default: <out>/map.plmap)")
-      .option("base", "camera-to-base file of plslam calib base (over the key calibration.camera_to_base): the map "
-                      "frame's origin is then below the robot base, x its forward; writes trajectory_base.txt")
-      .epilog(
+      .option("save-map", "where to write the map at the end (default: <out>/map.plmap)");
+  addRunSwitches(&args);
+  args.epilog(
           "outputs: trajectory.txt (TUM, every tracked frame, first camera's frame), trajectory_map.txt (the same in the\n"
           "map frame), keyframes.txt, map_frame.yaml, sparse_map.ply, stats.json, config.yaml,\n"
           "map.plmap (the map, for --map; written atomically, also after Ctrl-C)\n"
@@ -83,24 +71,6 @@ void printSummary(const RunStats& st, const FrameSource& dataset, const std::str
   if (!skipped.empty()) std::printf("skipped %d of %zu frames: %s\n", dataset.skippedTotal(), dataset.size(), skipped.c_str());
   if (!ate_line.empty()) std::printf("%s\n", ate_line.c_str());
   std::printf("outputs: %s\n", out.c_str());
-}
-
-// The switches of the command line that shape the System (session/run_config.h).
-RunSwitches runSwitches(const Args& args) {
-  RunSwitches switches;
-  switches.config = args.str("config");
-  switches.map = args.str("map");
-  switches.localize = args.has("localize");
-  switches.sequential = args.has("sequential");
-  switches.no_lines = args.has("no-lines");
-  switches.no_dynamic = args.has("no-dynamic");
-  switches.no_loop = args.has("no-loop");
-  switches.segmenter = args.str("segmenter");
-  switches.classes = args.str("classes");
-  switches.dynamic_classes = args.str("dynamic-classes");
-  switches.allow_missing_model = args.has("allow-missing-model");
-  switches.base = args.str("base");
-  return switches;
 }
 
 // The folder or bag of --dataset with the camera its frames are read with (--calib, a

@@ -14,6 +14,39 @@
 
 namespace plslam::cli {
 
+void addRunSwitches(Args* args) {
+  args->option("config", "YAML run options (plslam run --print-config shows every key)")
+      .flag("no-lines", "points only: no line features")
+      .option("segmenter", "instance masks: none, replay (the folder's masks/, as plslam synth writes), or a YOLOv8-seg .onnx file",
+              "none")
+      .option("classes", "class names file, one a line, in the model's order (default: the COCO names)")
+      .option("dynamic-classes", "comma-separated class names that may move (default: person, animals, vehicles)")
+      .flag("allow-missing-model", "if the model cannot be used, warn and go on with the geometric checks only")
+      .flag("no-dynamic", "no rejection of moving objects at all")
+      .flag("no-loop", "no loop closure")
+      .option("map", "start from a saved map (a run's map.plmap); its configuration is the base of this run's")
+      .flag("localize", "with --map: track in the map without changing it (no keyframes, no mapping); poses in its world frame")
+      .option("base", "camera-to-base file of plslam calib base (over the key calibration.camera_to_base): the map "
+                      "frame's origin is then below the robot base, x its forward; writes trajectory_base.txt");
+}
+
+RunSwitches runSwitches(const Args& args) {
+  RunSwitches switches;
+  switches.config = args.str("config");
+  switches.map = args.str("map");
+  switches.localize = args.has("localize");
+  switches.sequential = args.has("sequential");
+  switches.no_lines = args.has("no-lines");
+  switches.no_dynamic = args.has("no-dynamic");
+  switches.no_loop = args.has("no-loop");
+  switches.segmenter = args.str("segmenter");
+  switches.classes = args.str("classes");
+  switches.dynamic_classes = args.str("dynamic-classes");
+  switches.allow_missing_model = args.has("allow-missing-model");
+  switches.base = args.str("base");
+  return switches;
+}
+
 namespace {
 std::atomic<bool> g_interrupted{false};
 extern "C" void onSigint(int) { g_interrupted = true; }

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "args.h"
 #include "core/json.h"
 #include "core/option_table.h"
 #include "core/trajectory.h"
@@ -19,6 +20,14 @@
 #include "system/system.h"
 
 namespace plslam::cli {
+
+/// Declares the switches that shape the System, the same for plslam run and plslam live
+/// (session/run_config.h applies them): --config, --no-lines, --segmenter, --classes,
+/// --dynamic-classes, --allow-missing-model, --no-dynamic, --no-loop, --map, --localize,
+/// --base. Each command declares its own --sequential (what it implies differs).
+void addRunSwitches(Args* args);
+/// The switches of a parsed command line that declared them.
+RunSwitches runSwitches(const Args& args);
 
 /// The classes of the instance ids in `dataset`'s masks (masks.txt), for the replay segmenter.
 std::vector<InstanceClass> replayLabels(const TumDataset& dataset);
