@@ -56,6 +56,10 @@ struct DenseOptions {
   // came meanwhile. Both 0: no maps before the end.
   int live_every_keyframes = 10;      ///< update after this many new keyframes (0 = not by count)
   double live_every_s = 5.0;          ///< update this long after the last one, if anything is new (s; 0 = not by time)
+  // The maps are the least urgent work of a run: at the lowest priority they take the
+  // cycles tracking and mapping leave, instead of a share of a two-core robot's CPU that
+  // slows every frame as the map grows (docs/RESULTS.md, "Long run").
+  int live_nice = 19;                 ///< nice value of the maps thread (0..19)
 
   bool liveMaps() const { return enabled && (live_every_keyframes > 0 || live_every_s > 0); }
 };

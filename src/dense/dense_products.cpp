@@ -85,6 +85,7 @@ void validateDenseOptions(const DenseOptions& o) {
        "grid_occupied_thresh", "need 0 < grid_free_thresh < grid_occupied_thresh < 1");
   need(o.live_every_keyframes >= 0, "live_every_keyframes", "must be >= 0 (0: not by count)");
   need(o.live_every_s >= 0, "live_every_s", "must be >= 0 (0: not by time)");
+  need(o.live_nice >= 0 && o.live_nice <= 19, "live_nice", "must be in 0..19");
 }
 
 DenseProducts buildDenseProducts(const Map& map, const PinholeCamera& camera, const DenseOptions& o,

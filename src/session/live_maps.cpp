@@ -33,16 +33,15 @@ Json liveMapsStatsJson(const LiveMapsStats& s) {
 }
 
 LiveMaps::LiveMaps(const Map& map, const PinholeCamera& camera, const DenseOptions& options, std::string out_dir,
-                   const MapFrame* given, int nice)
-    : map_(map), maps_(std::make_unique<IncrementalDenseMaps>(camera, options, given)), options_(options), out_dir_(std::move(out_dir)), nice_(nice) {
+                   const MapFrame* given)
+    : map_(map), maps_(std::make_unique<IncrementalDenseMaps>(camera, options, given)), options_(options), out_dir_(std::move(out_dir)) {
   if (given) settled_ = *given;
 }
 
 std::unique_ptr<LiveMaps> makeLiveMaps(System* system, std::string out_dir, const MapFrame* given) {
   const SystemOptions& o = system->options();
   if (!o.dense.liveMaps()) return nullptr;
-  auto maps = std::make_unique<LiveMaps>(system->map(), system->camera(), o.dense, std::move(out_dir), given,
-                                         o.background_nice);
+  auto maps = std::make_unique<LiveMaps>(system->map(), system->camera(), o.dense, std::move(out_dir), given);
   maps->attach(system);
   return maps;
 }
@@ -98,7 +97,7 @@ bool LiveMaps::due() {
 }
 
 void LiveMaps::loop() {
-  if (!setThisThreadNice(nice_)) kLog.debug("the scheduler refused the background nice value");
+  if (!setThisThreadNice(options_.live_nice)) kLog.debug("the scheduler refused dense.live_nice");
   std::unique_lock<std::mutex> lock(signal_->mutex);
   while (!signal_->stopping) {
     signal_->wake.wait_for(lock, kPoll);

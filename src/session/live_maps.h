@@ -8,7 +8,7 @@
 // The thread is woken by the System's keyframe observer (attach()), which only counts,
 // so tracking and mapping never wait for a map update; the update itself takes the map's
 // lock only to copy poses and new clouds (dense/incremental_maps.h). The thread runs at
-// the System's background nice value.
+// dense.live_nice (lowest priority by default).
 //
 // Frame: every product is in the map frame of core/map_frame.h. Until a floor plane is
 // found it is re-estimated at each update (products may then shift between updates, and
@@ -64,7 +64,7 @@ class LiveMaps {
   /// `map` and `camera`: the System's (it must outlive this). `out_dir`: where the files
   /// go (empty: none written, the listener only). `given`: a saved map's frame (may be null).
   LiveMaps(const Map& map, const PinholeCamera& camera, const DenseOptions& options, std::string out_dir,
-           const MapFrame* given = nullptr, int nice = 5);
+           const MapFrame* given = nullptr);
   ~LiveMaps();
   LiveMaps(const LiveMaps&) = delete;
   LiveMaps& operator=(const LiveMaps&) = delete;
@@ -95,7 +95,6 @@ class LiveMaps {
   std::unique_ptr<IncrementalDenseMaps> maps_;  // released by stop(): the end's products need the memory
   DenseOptions options_;
   std::string out_dir_;
-  int nice_;
   std::function<void(const LiveMapsUpdate&)> listener_;
   std::thread thread_;
   /// What the keyframe observer touches (shared with it), and the lock of the stats.
@@ -114,7 +113,7 @@ class LiveMaps {
   std::optional<MapFrame> settled_;
 };
 
-/// LiveMaps for `system` (its map, camera, dense options and background nice value),
+/// LiveMaps for `system` (its map, camera and dense options),
 /// attached to its keyframe observer, not started; null when the options turn them off
 /// (dense.enabled false, or both dense.live_every_* 0). Before system->start().
 std::unique_ptr<LiveMaps> makeLiveMaps(System* system, std::string out_dir, const MapFrame* given = nullptr);

@@ -137,6 +137,7 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
   t->bind("dense.live_every_s", &dn.live_every_s,
           "maps while running: update this many seconds after the last update when something is new "
           "(0 = not by time; both 0 = only at the end)");
+  t->bind("dense.live_nice", &dn.live_nice, "maps while running: nice value of their thread (0..19; 19 = idle cycles)");
 
   t->bind("calibration.camera_to_base", &o->camera_to_base,
           "camera-to-base file of plslam calib base: the map frame's origin is then on the floor below the base, x its "

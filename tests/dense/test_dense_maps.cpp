@@ -88,6 +88,16 @@ TEST(DenseOptions, OutOfRangeValuesAreRefusedNamingTheKey) {
   o = DenseOptions();
   o.grid_max_height_m = o.grid_min_height_m;
   EXPECT_THROW(validateDenseOptions(o), ConfigError);
+  for (int nice : {-1, 20}) {
+    o = DenseOptions();
+    o.live_nice = nice;
+    try {
+      validateDenseOptions(o);
+      FAIL() << "live_nice " << nice << " accepted";
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("dense.live_nice"), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(GridYaml, ReadsMapServerYamlAndRefusesMalformedFilesNamingKeyAndLine) {
