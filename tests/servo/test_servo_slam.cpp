@@ -101,3 +101,35 @@ TEST(ServoOnSlam, TagServoStopsAtTheStandoffFromDetectedTagPoses) {
   const double cy = r.final_pose.y + sim.bMc[0][3] * std::sin(r.final_pose.yaw);
   EXPECT_NEAR(std::hypot(tag_x - cx, tag_y - cy), options.standoff, 0.03);
 }
+
+// A tag never in view: the servo gets no measurement and the base stands still (TagServo::lost()).
+TEST(ServoOnSlam, TagServoStandsStillWhileTheTagIsNotSeen) {
+  SimulationOptions sim;
+  sim.start = {0, 0, vpMath::rad(180)};  // facing away from the tag
+  sim.max_time_s = 1.0;
+  const double tag_x = 2.0, tag_y = 0.0;
+  const SE3 T_room_p = planeForTagOnEastWall(tag_x, tag_y);
+  const TagRoom room(TagRoom::onEastWall(T_room_p.translation().y() + tag_y, sim.bMc[2][3]));
+  DetectedTag sensor(room, T_room_p);
+  const vpHomogeneousMatrix pMo(vpTranslationVector(tag_x, tag_y, sim.bMc[2][3]), vpRotationMatrix());
+  const SimulationResult r = simulateTagServo(pMo, TagServoOptions(), sim, nullptr, &sensor);
+  EXPECT_FALSE(r.converged);
+  EXPECT_EQ(sensor.detections(), 0);
+  EXPECT_EQ(r.blind_steps, r.iterations);
+  EXPECT_EQ(r.max_abs_v, 0.0);
+  EXPECT_EQ(r.max_abs_w, 0.0);
+  EXPECT_NEAR(r.final_pose.x, 0.0, 1e-12);
+  EXPECT_NEAR(r.final_pose.yaw, sim.start.yaw, 1e-12);
+}
+
+TEST(ServoCli, PosesSlamServoesToTheDetectedTagAndRefusesSimulatedErrors) {
+  auto r = test::runPlslam("servo --simulate --poses slam --tag 2,0.6 --standoff 0.6 --start 0,0,20 --sink udp:127.0.0.1:9");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("tag servo converged"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("tag detected in"), std::string::npos) << r.output;
+  r = test::runPlslam("servo --simulate --poses slam --goal 1,0,0 --noise-position 0.01");
+  EXPECT_EQ(r.status, 2) << r.output;
+  r = test::runPlslam("servo --simulate --poses slam --goal 5,0,0");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("outside its floor"), std::string::npos) << r.output;
+}
