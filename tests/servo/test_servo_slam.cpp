@@ -83,7 +83,7 @@ TEST(ServoOnSlam, TagServoStopsAtTheStandoffFromDetectedTagPoses) {
   TagServoOptions options;
   options.standoff = 0.6;
   SimulationOptions sim;
-  sim.start = {0, 0, vpMath::rad(20)};
+  sim.start = {0, 0, vpMath::rad(-5)};  // the tag 22 degrees off the optical axis, near the image's edge
   const double tag_x = 2.0, tag_y = 0.6;
   const SE3 T_room_p = planeForTagOnEastWall(tag_x, tag_y);
   const vpHomogeneousMatrix pMo(vpTranslationVector(tag_x, tag_y, sim.bMc[2][3]), vpRotationMatrix());
