@@ -67,6 +67,7 @@ DetectedTag::DetectedTag(const TagRoom& room, const SE3& T_room_p)
       detector_(room.camera(), room.options().tag_id, room.options().tag_size) {}
 
 std::optional<vpHomogeneousMatrix> DetectedTag::observe(int step, const vpHomogeneousMatrix& pMc_true) {
+  // The room is static: the stamp only names the view; the step picks its sensor noise.
   const synth::RenderedFrame view =
       room_.render(T_room_p_ * fromVisp(pMc_true), stamp(step, 1.0 / 30), static_cast<uint64_t>(step));
   const std::optional<SE3> T_c_tag = detector_.detect(view.bgr);
