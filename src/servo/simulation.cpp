@@ -50,7 +50,7 @@ SlamPoseError::SlamPoseError(std::vector<SE3> errors) : errors_(std::move(errors
   if (errors_.empty()) errors_.push_back(SE3());
 }
 
-vpHomogeneousMatrix SlamPoseError::measure(int step, const vpHomogeneousMatrix& wMc_true) {
+std::optional<vpHomogeneousMatrix> SlamPoseError::measure(int step, const vpHomogeneousMatrix& wMc_true) {
   // Back and forth through the run (0 1 .. n-1 n-2 .. 1 0 1 ..): the error stays as smooth as
   // SLAM's, with no jump from the last frame back to the first.
   const size_t n = errors_.size();
@@ -91,7 +91,7 @@ void SlamPoseError::magnitude(const std::vector<SE3>& errors, double* max_transl
 GaussianPoseError::GaussianPoseError(double sigma_position_m, double sigma_rotation_rad, unsigned seed)
     : sigma_p_(sigma_position_m), sigma_r_(sigma_rotation_rad), rng_(seed) {}
 
-vpHomogeneousMatrix GaussianPoseError::measure(int, const vpHomogeneousMatrix& wMc_true) {
+std::optional<vpHomogeneousMatrix> GaussianPoseError::measure(int, const vpHomogeneousMatrix& wMc_true) {
   std::normal_distribution<double> p(0, sigma_p_ > 0 ? sigma_p_ : 1e-300), r(0, sigma_r_ > 0 ? sigma_r_ : 1e-300);
   const vpTranslationVector t(p(rng_), p(rng_), p(rng_));
   const vpThetaUVector tu(r(rng_), r(rng_), r(rng_));
@@ -109,9 +109,10 @@ SimulationResult simulatePoseServo(const PlanarPose& goal, const PoseServoOption
   const int max_steps = static_cast<int>(std::ceil(sim.max_time_s / sim.dt));
   for (int k = 0; k < max_steps; ++k) {
     const vpHomogeneousMatrix wMc_true = pMw.inverse() * base.camera();
-    const vpHomogeneousMatrix wMc = errors ? errors->measure(k, wMc_true) : wMc_true;
-    const ServoStep step = controller.update(map.baseInPlane(wMc));
+    const std::optional<vpHomogeneousMatrix> wMc = errors ? errors->measure(k, wMc_true) : wMc_true;
     r.iterations = k + 1;
+    if (!wMc) ++r.blind_steps;
+    const ServoStep step = wMc ? controller.update(map.baseInPlane(*wMc)) : ServoStep{};  // no pose: stop
     if (sink) sink->send(secondsToNs(k * sim.dt), step.command);
     track(&r, step.command);
     if (step.done) {
@@ -128,16 +129,18 @@ SimulationResult simulatePoseServo(const PlanarPose& goal, const PoseServoOption
 }
 
 SimulationResult simulateTagServo(const vpHomogeneousMatrix& pMo, const TagServoOptions& servo,
-                                  const SimulationOptions& sim, VelocitySink* sink) {
+                                  const SimulationOptions& sim, VelocitySink* sink, TagSensor* sensor) {
   SimulatedBase base(sim, servo.limits);
   TagServo controller(sim.bMc, servo);
   SimulationResult r;
   const int max_steps = static_cast<int>(std::ceil(sim.max_time_s / sim.dt));
   TagServoStep step;
   for (int k = 0; k < max_steps; ++k) {
-    const vpHomogeneousMatrix cMo = base.camera().inverse() * pMo;
-    step = controller.update(cMo);
+    const std::optional<vpHomogeneousMatrix> cMo =
+        sensor ? sensor->observe(k, base.camera()) : std::optional(base.camera().inverse() * pMo);
     r.iterations = k + 1;
+    if (!cMo) ++r.blind_steps;
+    step = cMo ? controller.update(*cMo) : controller.lost();
     if (sink) sink->send(secondsToNs(k * sim.dt), step.command);
     track(&r, step.command);
     if (step.done) {

@@ -9,9 +9,14 @@
 //
 // The simulated world frame is the floor-plane frame p (z up); the SLAM map frame is the
 // camera at the start, as in a real run, and the controller gets pMb through PlanarMap.
+//
+// The measurement is an interface so that a pose model may also be a SLAM run on images
+// rendered at the true pose, and the tag's pose a detection in them (servo_sim/): a model
+// that has no pose for a step (SLAM lost, tag not seen) stops the base for that step.
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -22,18 +27,27 @@
 
 namespace plslam {
 
-/// Turns the true camera pose (in the SLAM map) into a measured one.
+/// Turns the true camera pose (in the SLAM map w, the camera at the start) into a measured
+/// one; nullopt when there is no measurement at this step (the base then stops).
 class PoseErrorModel {
  public:
   virtual ~PoseErrorModel() = default;
-  virtual vpHomogeneousMatrix measure(int step, const vpHomogeneousMatrix& wMc_true) = 0;
+  virtual std::optional<vpHomogeneousMatrix> measure(int step, const vpHomogeneousMatrix& wMc_true) = 0;
+};
+
+/// What the tag servo sees: the tag pose cMo from the true camera pose pMc in the plane
+/// frame; nullopt when the tag is not seen (the base then stops).
+class TagSensor {
+ public:
+  virtual ~TagSensor() = default;
+  virtual std::optional<vpHomogeneousMatrix> observe(int step, const vpHomogeneousMatrix& pMc_true) = 0;
 };
 
 /// Applies SLAM errors in turn, one per control step, going back and forth through the run.
 class SlamPoseError : public PoseErrorModel {
  public:
   explicit SlamPoseError(std::vector<SE3> errors);
-  vpHomogeneousMatrix measure(int step, const vpHomogeneousMatrix& wMc_true) override;
+  std::optional<vpHomogeneousMatrix> measure(int step, const vpHomogeneousMatrix& wMc_true) override;
   /// The per-frame camera errors T_gt^-1 * (T_align * T_est) of a run: each estimated pose is
   /// paired with the ground truth pose closest in time (within max_dt_s); T_align maps the
   /// first paired estimate onto its ground truth. Throws DataError when fewer than two
@@ -49,7 +63,7 @@ class SlamPoseError : public PoseErrorModel {
 class GaussianPoseError : public PoseErrorModel {
  public:
   GaussianPoseError(double sigma_position_m, double sigma_rotation_rad, unsigned seed = 1);
-  vpHomogeneousMatrix measure(int step, const vpHomogeneousMatrix& wMc_true) override;
+  std::optional<vpHomogeneousMatrix> measure(int step, const vpHomogeneousMatrix& wMc_true) override;
 
  private:
   double sigma_p_, sigma_r_;
@@ -70,6 +84,7 @@ struct SimulationResult {
   PlanarPose final_pose;      ///< true final base pose
   double position_error = 0;  ///< true final distance to the goal (pose servo) or depth error (tag servo), metres
   double yaw_error = 0;       ///< true final heading error (pose servo) or bearing (tag servo), radians
+  int blind_steps = 0;        ///< steps without a measurement (SLAM lost, tag not seen): the base stood still
   double max_abs_v = 0, max_abs_w = 0;  ///< over every command sent
   std::vector<VelocityCommand> commands;
 };
@@ -80,9 +95,10 @@ SimulationResult simulatePoseServo(const PlanarPose& goal, const PoseServoOption
                                    PoseErrorModel* errors = nullptr, VelocitySink* sink = nullptr);
 
 /// Runs TagServo towards a tag at pMo (in the plane frame) on the simulated base; the tag
-/// pose fed to it is the true cMo. position_error is the final depth error, yaw_error the
-/// final bearing of the tag centre.
+/// pose fed to it comes from `sensor`, the true cMo when null. position_error is the true
+/// final depth error, yaw_error the true final bearing of the tag centre.
 SimulationResult simulateTagServo(const vpHomogeneousMatrix& pMo, const TagServoOptions& servo,
-                                  const SimulationOptions& sim, VelocitySink* sink = nullptr);
+                                  const SimulationOptions& sim, VelocitySink* sink = nullptr,
+                                  TagSensor* sensor = nullptr);
 
 }  // namespace plslam

@@ -134,6 +134,24 @@ TEST(PoseServo, ConvergesUnderGaussianPoseNoise) {
   expectWithinLimits(r, options.limits);
 }
 
+// A pose model with no pose for the first steps (SLAM not tracking yet): the base waits, then goes.
+TEST(PoseServo, StandsStillWhileThereIsNoPoseThenConverges) {
+  class LateStart : public PoseErrorModel {
+   public:
+    std::optional<vpHomogeneousMatrix> measure(int step, const vpHomogeneousMatrix& wMc_true) override {
+      if (step < 10) return std::nullopt;
+      return wMc_true;
+    }
+  } model;
+  const SimulationResult r = simulatePoseServo({1.0, 0.0, 0.0}, PoseServoOptions(), SimulationOptions(), &model);
+  EXPECT_EQ(r.blind_steps, 10);
+  ASSERT_GT(r.commands.size(), 10u);
+  for (int k = 0; k < 10; ++k) EXPECT_TRUE(r.commands[k].v == 0 && r.commands[k].w == 0) << "step " << k;
+  EXPECT_GT(r.commands[10].v, 0);
+  EXPECT_TRUE(r.converged);
+  EXPECT_LT(r.position_error, 0.02);
+}
+
 TEST(TagServo, StopsAtTheStandoffFacingTheTag) {
   TagServoOptions options;
   options.standoff = 0.6;
