@@ -95,7 +95,8 @@ OpenedSource openRunSource(const Args& args, RunConfig* config) {
   if (segmenter.kind == SegmenterKind::kReplay) {
     const auto* folder = dynamic_cast<const TumDataset*>(&dataset);
     if (!folder || (folder->instanceLabels().empty() && folder->listReport().masks_listed == 0))
-      throw ConfigError("plslam run: --segmenter replay needs a folder with masks.txt (plslam synth writes one): " +
+      throw ConfigError("plslam run: the replay segmenter (--segmenter replay, segmenter.backend) needs a folder "
+                        "with masks.txt (plslam synth writes one): " +
                         dataset.location());
     segmenter.replay_labels = replayLabels(*folder);
   }
