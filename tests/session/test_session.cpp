@@ -113,6 +113,20 @@ TEST(RunConfig, SegmenterSwitchOverridesTheKeyAndABadValueNamesTheKey) {
   }
 }
 
+TEST(RunConfig, SavedMapGivesItsConfigurationButNotItsSegmenter) {
+  const std::string path = test::scratchDir("run_config_map") + "/saved.plmap";  // writeConfig empties its own folder
+  saveMap(path, Map(), loadCameraFile(test::sourceDir() + "/calib/tum_freiburg1.xml"),
+          "system:\n  use_lines: false\nsegmenter:\n  backend: replay\n  classes: /recorded/names.txt\n");
+  RunSwitches s;
+  s.map = path;
+  const RunConfig c = makeRunConfig(s, "test");
+  EXPECT_FALSE(c.options.use_lines) << "the map's own configuration is the base";
+  EXPECT_EQ(c.options.segmenter.kind, SegmenterKind::kNone) << "the segmenter is the session's";
+  EXPECT_EQ(c.options.segmenter.classes_file, "");
+  s.config = writeConfig("yolo_over_map.yaml", "segmenter:\n  backend: yolo\n  model: /m.onnx\n");
+  EXPECT_EQ(makeRunConfig(s, "test").options.segmenter.kind, SegmenterKind::kYolo) << "this session's file sets it";
+}
+
 TEST(LiveSession, PushedFramesWithoutDropsTrackLikeTheSystem) {
   const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, 40);
   const PinholeCamera camera = loadCameraFile(folder + "/camera.xml");
