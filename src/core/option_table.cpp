@@ -78,6 +78,11 @@ void OptionTable::bind(const std::string& key, std::string* f, const std::string
   add({key, doc, "text", [f](const std::string& v) { *f = v; }, [f] { return yamlQuoted(*f); }});
 }
 
+void OptionTable::bindCustom(const std::string& key, std::function<void(const std::string&)> set,
+                             std::function<std::string()> get, const std::string& type, const std::string& doc) {
+  add({key, doc, type, std::move(set), [get = std::move(get)] { return yamlQuoted(get()); }});
+}
+
 void OptionTable::set(const std::string& key, const std::string& value, const std::string& source) {
   auto it = index_.find(key);
   if (it == index_.end()) throw ConfigError(source + ": unknown option '" + key + "'");

@@ -18,6 +18,12 @@ class OptionTable {
   void bind(const std::string& key, float* field, const std::string& doc);
   void bind(const std::string& key, bool* field, const std::string& doc);
   void bind(const std::string& key, std::string* field, const std::string& doc);
+  /// Binds `key` to a value of the caller's kind: `set` parses the text and throws
+  /// std::invalid_argument saying what it expected (the table turns that into a ConfigError
+  /// naming the key); `get` gives the value back as text (written quoted). `type` names the
+  /// accepted values in messages ("none, replay or yolo").
+  void bindCustom(const std::string& key, std::function<void(const std::string&)> set, std::function<std::string()> get,
+                  const std::string& type, const std::string& doc);
 
   /// Sets one option from text. Throws ConfigError naming `source` and the key when the key
   /// is unknown or the value does not parse as the field's type.

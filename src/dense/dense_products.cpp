@@ -111,7 +111,11 @@ DenseProducts buildDenseProducts(const Map& map, const PinholeCamera& camera, co
   if (!stop && need_octree)
     timed(&p, "octomap", [&] { p.octree = buildOctree(map, o, progress, &stop, p.frame.T_map_world); });
   if (!stop && what.semantic_octomap)
-    timed(&p, "semantic octomap", [&] { p.semantic_octree = buildSemanticOctree(*p.octree, p.cloud, o); });
+    timed(&p, "semantic octomap", [&] {
+      SemanticOctrees trees = buildSemanticOctrees(*p.octree, p.cloud, o);
+      p.semantic_octree = std::move(trees.colour);
+      p.label_octree = std::move(trees.labels);
+    });
   if (!stop && what.semantic_octomap && progress && !progress("semantic octomap", 1, 1)) stop = true;
   if (!stop && what.grid) {
     // The tree is in the map frame, which is the grid's floor frame.
@@ -203,6 +207,7 @@ std::vector<WrittenFile> writeDenseProducts(const std::string& dir, const DenseP
     if (what.ply) put(kDenseCloudPly, cloudToSemanticPly(p.cloud));
     if (what.octomap && p.octree) put(kOctomapBt, octreeToBt(*p.octree));
     if (what.semantic_octomap && p.semantic_octree) put(kOctomapSemanticOt, octreeToOt(*p.semantic_octree));
+    if (what.semantic_octomap && p.label_octree) put(kOctomapLabelsOt, octreeToOt(*p.label_octree));
     if (what.grid && p.grid.width > 0) {
       put(kGridPgm, gridToPgm(p.grid));
       const std::string floor = "grid frame = map frame (map_frame.yaml), floor: " + p.frame.floor_method +

@@ -9,6 +9,7 @@
 //   dense_cloud_semantic.ply   fused cloud, semantic colours and classes (ditto)
 //   octomap.bt                 occupancy octree (dense/octree_maps.h)
 //   octomap_semantic.ot        colour octree with semantic colours (ditto)
+//   octomap_labels.ot          the same with class ids per voxel (ditto; dense/label_octree.h)
 //   grid.pgm, grid.yaml        2D occupancy grid, ROS map_server (dense/occupancy_grid.h)
 //   dense_products.json        counts, floor, grid frame, time and peak memory per product,
 //                              file sizes
@@ -38,6 +39,7 @@ inline constexpr char kDenseCloudPcd[] = "dense_cloud.pcd";
 inline constexpr char kDenseCloudPly[] = "dense_cloud_semantic.ply";
 inline constexpr char kOctomapBt[] = "octomap.bt";
 inline constexpr char kOctomapSemanticOt[] = "octomap_semantic.ot";
+inline constexpr char kOctomapLabelsOt[] = "octomap_labels.ot";
 inline constexpr char kGridPgm[] = "grid.pgm";
 inline constexpr char kGridYaml[] = "grid.yaml";
 inline constexpr char kDenseSummaryJson[] = "dense_products.json";
@@ -47,7 +49,7 @@ struct DenseSelection {
   bool pcd = true;               ///< dense_cloud.pcd
   bool ply = true;               ///< dense_cloud_semantic.ply
   bool octomap = true;           ///< octomap.bt
-  bool semantic_octomap = true;  ///< octomap_semantic.ot
+  bool semantic_octomap = true;  ///< octomap_semantic.ot and octomap_labels.ot
   bool grid = true;              ///< grid.pgm + grid.yaml
   bool any() const { return pcd || ply || octomap || semantic_octomap || grid; }
 };
@@ -71,6 +73,7 @@ struct DenseProducts {
   std::vector<FusedPoint> cloud;       ///< fused cloud, map frame (built for pcd, ply, semantic octomap, grid)
   std::shared_ptr<octomap::OcTree> octree;                 ///< map frame; built for octomap and grid
   std::shared_ptr<octomap::ColorOcTree> semantic_octree;   ///< map frame; built for semantic_octomap
+  std::shared_ptr<LabelOcTree> label_octree;               ///< map frame, class ids; built for semantic_octomap
   OccupancyGrid grid;                  ///< map frame (T_w_grid = T_map_world^-1); built for grid
   std::vector<DenseCost> costs;
   bool cancelled = false;              ///< progress stopped the build: products are incomplete

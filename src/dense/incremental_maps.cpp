@@ -185,7 +185,11 @@ void IncrementalDenseMaps::remakeDerived(std::vector<FusedPoint> cloud_w) {
   for (FusedPoint& q : cloud_w) q.p_w = (T * q.p_w.cast<double>()).cast<float>();
   products_.cloud = std::move(cloud_w);
   timedStep(&products_, "semantic octomap",
-            [&] { products_.semantic_octree = buildSemanticOctree(*products_.octree, products_.cloud, options_); });
+            [&] {
+              SemanticOctrees trees = buildSemanticOctrees(*products_.octree, products_.cloud, options_);
+              products_.semantic_octree = std::move(trees.colour);
+              products_.label_octree = std::move(trees.labels);
+            });
   // The tree is in the map frame, which is the grid's floor frame.
   timedStep(&products_, "grid", [&] { products_.grid = projectToGrid(*products_.octree, SE3(), T.inverse(), options_); });
 }

@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "dense/label_octree.h"
 
 namespace plslam {
 
@@ -70,13 +71,12 @@ std::shared_ptr<octomap::OcTree> buildOctree(const Map& map, const DenseOptions&
   return tree;
 }
 
-std::shared_ptr<octomap::ColorOcTree> buildSemanticOctree(const octomap::OcTree& occupancy,
-                                                          const std::vector<FusedPoint>& fused,
-                                                          const DenseOptions& o) {
-  auto tree = std::make_shared<octomap::ColorOcTree>(occupancy.getResolution());
-  configure(tree.get(), o);
-  // The occupancy is copied leaf by leaf (pruned leaves expanded): much cheaper than casting
-  // every keyframe's rays a second time.
+namespace {
+
+// Copies the occupancy leaf by leaf (pruned leaves expanded): much cheaper than casting every
+// keyframe's rays a second time.
+template <typename Tree>
+void copyOccupancy(const octomap::OcTree& occupancy, Tree* tree) {
   const double res = occupancy.getResolution();
   const unsigned max_depth = occupancy.getTreeDepth();
   for (auto it = occupancy.begin_leafs(), end = occupancy.end_leafs(); it != end; ++it) {
@@ -97,23 +97,35 @@ std::shared_ptr<octomap::ColorOcTree> buildSemanticOctree(const octomap::OcTree&
           tree->setNodeValue(key, log_odds, /*lazy_eval=*/true);
         }
   }
-  tree->updateInnerOccupancy();
+}
 
-  // Votes per voxel: the most frequent class wins; unlabelled points give grey luminance.
+// The label of one voxel: the majority of its fused points ("no class" a candidate too).
+struct VoxelLabel {
+  octomap::OcTreeKey key;
+  int16_t class_id = -1;
+  uint32_t votes = 0, points = 0;
+  Rgb colour;
+};
+
+// Votes per voxel: the most frequent class wins (a tie: the larger id); a voxel whose winner
+// is "no class" gets the mean grey luminance of its unlabelled points. In first-touched
+// order, so the trees are filled deterministically.
+std::vector<VoxelLabel> voxelLabels(const octomap::OcTree& tree, const std::vector<FusedPoint>& fused) {
   struct Votes {
-    std::vector<std::pair<int16_t, int>> classes;
+    std::vector<std::pair<int16_t, uint32_t>> classes;
     double luminance = 0;
-    int unlabelled = 0;
+    uint32_t unlabelled = 0, points = 0;
   };
   std::unordered_map<octomap::OcTreeKey, Votes, octomap::OcTreeKey::KeyHash> votes;
-  std::vector<octomap::OcTreeKey> order;  // first-touched order: deterministic colouring
+  std::vector<octomap::OcTreeKey> order;
   for (const FusedPoint& p : fused) {
     octomap::OcTreeKey key;
-    if (!tree->coordToKeyChecked(p.p_w.x(), p.p_w.y(), p.p_w.z(), key)) continue;
+    if (!tree.coordToKeyChecked(p.p_w.x(), p.p_w.y(), p.p_w.z(), key)) continue;
     auto [it, inserted] = votes.try_emplace(key);
     if (inserted) order.push_back(key);
     Votes& v = it->second;
-    const int weight = std::max(1, p.points);
+    const auto weight = static_cast<uint32_t>(std::max(1, p.points));
+    v.points += weight;
     if (p.class_id < 0) {
       v.luminance += weight * semanticColour(p).r;
       v.unlabelled += weight;
@@ -123,24 +135,54 @@ std::shared_ptr<octomap::ColorOcTree> buildSemanticOctree(const octomap::OcTree&
       if (c.first == p.class_id) c.second += weight, found = true;
     if (!found) v.classes.push_back({p.class_id, weight});
   }
+  std::vector<VoxelLabel> labels;
+  labels.reserve(order.size());
   for (const octomap::OcTreeKey& key : order) {
-    octomap::ColorOcTreeNode* node = tree->search(key);
-    if (!node || !tree->isNodeOccupied(node)) continue;
     const Votes& v = votes[key];
-    int16_t best = -1;
-    int best_votes = -1;
+    VoxelLabel l;
+    l.key = key;
+    l.points = v.points;
     for (const auto& c : v.classes)
-      if (c.second > best_votes || (c.second == best_votes && c.first > best)) best = c.first, best_votes = c.second;
-    Rgb colour = classColour(best);
-    if (best < 0 && v.unlabelled > 0) {
+      if (c.second > l.votes || (c.second == l.votes && c.first > l.class_id)) l.class_id = c.first, l.votes = c.second;
+    l.colour = classColour(l.class_id);
+    if (l.class_id < 0 && v.unlabelled > 0) {
       const auto y = static_cast<uint8_t>(std::lround(v.luminance / v.unlabelled));
-      colour = {y, y, y};
+      l.colour = {y, y, y};
     }
-    node->setColor(colour.r, colour.g, colour.b);
+    labels.push_back(l);
   }
+  return labels;
+}
+
+template <typename Tree>
+std::shared_ptr<Tree> occupancyCopy(const octomap::OcTree& occupancy, const DenseOptions& o) {
+  auto tree = std::make_shared<Tree>(occupancy.getResolution());
+  configure(tree.get(), o);
+  copyOccupancy(occupancy, tree.get());
   tree->updateInnerOccupancy();
-  tree->prune();
   return tree;
+}
+
+}  // namespace
+
+SemanticOctrees buildSemanticOctrees(const octomap::OcTree& occupancy, const std::vector<FusedPoint>& fused,
+                                     const DenseOptions& o) {
+  const std::vector<VoxelLabel> labels = voxelLabels(occupancy, fused);
+  SemanticOctrees out;
+  out.colour = occupancyCopy<octomap::ColorOcTree>(occupancy, o);
+  out.labels = occupancyCopy<LabelOcTree>(occupancy, o);
+  // Only occupied voxels are labelled: a point in a voxel seen free is noise or was removed.
+  for (const VoxelLabel& l : labels) {
+    octomap::ColorOcTreeNode* c = out.colour->search(l.key);
+    if (c && out.colour->isNodeOccupied(c)) c->setColor(l.colour.r, l.colour.g, l.colour.b);
+    LabelOcTreeNode* n = out.labels->search(l.key);
+    if (n && out.labels->isNodeOccupied(n)) n->setLabel(l.class_id, l.votes, l.points, l.colour.r, l.colour.g, l.colour.b);
+  }
+  out.colour->updateInnerOccupancy();
+  out.colour->prune();
+  out.labels->updateInnerOccupancy();
+  out.labels->prune();
+  return out;
 }
 
 std::string octreeToBt(const octomap::OcTree& tree) {
@@ -149,11 +191,16 @@ std::string octreeToBt(const octomap::OcTree& tree) {
   return s.str();
 }
 
-std::string octreeToOt(const octomap::ColorOcTree& tree) {
+namespace {
+std::string fullTreeFile(const octomap::AbstractOcTree& tree) {
   std::ostringstream s;
-  if (!tree.write(s)) throw IoError("octomap: writing the colour tree failed");
+  if (!tree.write(s)) throw IoError("octomap: writing the " + tree.getTreeType() + " failed");
   return s.str();
 }
+}  // namespace
+
+std::string octreeToOt(const octomap::ColorOcTree& tree) { return fullTreeFile(tree); }
+std::string octreeToOt(const LabelOcTree& tree) { return fullTreeFile(tree); }
 
 OccupancyGrid projectToGrid(const octomap::OcTree& tree, const SE3& T_tree_grid, const SE3& T_w_tree,
                             const DenseOptions& o) {

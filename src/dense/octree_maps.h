@@ -8,11 +8,19 @@
 //                         occupancy; each occupied voxel coloured with the semantic colour of
 //                         the fused points in it (dense/cloud_fusion.h: palette colour of the
 //                         most frequent class, grey luminance for points without class).
+//                         Readable by octovis and every OctoMap tool.
+//   octomap_labels.ot     plslam::LabelOcTree (dense/label_octree.h: write), the same
+//                         occupancy; each occupied voxel with its class id, the votes for it,
+//                         the points in it and the same colour. The class is the majority of
+//                         the fused points in the voxel (the rule of the colours above).
+//                         Read back with octomap::AbstractOcTree::read in a program linking
+//                         plslam_dense; octovis cannot create the type (it says "Cannot open
+//                         OcTree file"), hence the colour tree beside it.
 // Moving objects are not in the keyframe clouds (dynamic pixels are left out), so they
 // leave no occupied voxels.
 //
 // The octomap types are only declared here: include <octomap/OcTree.h> /
-// <octomap/ColorOcTree.h> to use the trees (plslam_dense links octomap).
+// <octomap/ColorOcTree.h> / "dense/label_octree.h" to use the trees (plslam_dense links octomap).
 #pragma once
 
 #include <memory>
@@ -32,6 +40,8 @@ class ColorOcTree;
 
 namespace plslam {
 
+class LabelOcTree;
+
 /// The occupancy octree of every keyframe's cloud (final poses). Same caller duty as
 /// fuseCloud(); `cancelled` (may be null) is set when progress stopped it (tree partial).
 /// The tree is built in the frame `out` of T_out_w (the map frame: T_map_world), so that
@@ -49,15 +59,21 @@ template <typename Tree>
 void insertKeyframeScan(Tree* tree, const std::vector<DensePoint>& cloud_c, const SE3& T_out_c,
                         const DenseOptions& options);
 
-/// The occupancy of `occupancy` in a ColorOcTree, occupied voxels coloured from `fused`
-/// (see above).
-std::shared_ptr<octomap::ColorOcTree> buildSemanticOctree(const octomap::OcTree& occupancy,
-                                                          const std::vector<FusedPoint>& fused,
-                                                          const DenseOptions& options);
+/// The two semantic trees of one occupancy (see above).
+struct SemanticOctrees {
+  std::shared_ptr<octomap::ColorOcTree> colour;  ///< octomap_semantic.ot
+  std::shared_ptr<LabelOcTree> labels;           ///< octomap_labels.ot
+};
+/// The occupancy of `occupancy` copied into both trees, occupied voxels labelled and
+/// coloured from the fused points `fused` (same frame as the tree) falling in them.
+SemanticOctrees buildSemanticOctrees(const octomap::OcTree& occupancy, const std::vector<FusedPoint>& fused,
+                                     const DenseOptions& options);
 
-/// File contents: OcTree::writeBinary (.bt) and ColorOcTree::write (.ot).
+/// File contents: OcTree::writeBinary (.bt) and AbstractOcTree::write (.ot: the tree type
+/// in the header, full node data).
 std::string octreeToBt(const octomap::OcTree& tree);
 std::string octreeToOt(const octomap::ColorOcTree& tree);
+std::string octreeToOt(const LabelOcTree& tree);
 
 /// The 2D grid in the floor frame `grid` (z up, origin on the floor; T_tree_grid: its pose
 /// in the tree's frame, identity when the tree was built in the map frame) between

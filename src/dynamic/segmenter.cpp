@@ -2,10 +2,13 @@
 
 #include <chrono>
 #include <map>
+#include <sstream>
+#include <stdexcept>
 
 #include "core/profile.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "core/option_table.h"
 #include "dynamic/yolo_segmenter.h"
 
 namespace plslam {
@@ -35,6 +38,50 @@ SegmenterKind parseSegmenterKind(const std::string& name) {
   for (SegmenterKind k : {SegmenterKind::kNone, SegmenterKind::kReplay, SegmenterKind::kYolo})
     if (name == segmenterKindName(k)) return k;
   throw ConfigError(str("unknown segmenter '", name, "' (accepted: none, replay, yolo)"));
+}
+
+std::vector<std::string> splitClassNames(const std::string& list) {
+  std::vector<std::string> names;
+  std::stringstream in(list);
+  for (std::string name; std::getline(in, name, ',');) {
+    const size_t b = name.find_first_not_of(" \t"), e = name.find_last_not_of(" \t");
+    if (b != std::string::npos) names.push_back(name.substr(b, e - b + 1));
+  }
+  return names;
+}
+
+void bindSegmenterOptions(OptionTable* t, SegmenterOptions* o) {
+  t->bindCustom(
+      "segmenter.backend",
+      [o](const std::string& v) {
+        try {
+          o->kind = parseSegmenterKind(v);
+        } catch (const ConfigError&) {
+          throw std::invalid_argument("expected none, replay or yolo");
+        }
+      },
+      [o] { return std::string(segmenterKindName(o->kind)); }, "none, replay or yolo",
+      "instance masks: none (geometric checks only), replay (the folder's masks/, as plslam synth writes them) or "
+      "yolo (the model of segmenter.model); --segmenter overrides it");
+  t->bind("segmenter.model", &o->yolo.model_path, "YOLOv8-seg .onnx model of the yolo backend (--segmenter FILE.onnx overrides it)");
+  t->bind("segmenter.classes", &o->classes_file,
+          "class names file, one a line, in the model's order (empty: the COCO names; --classes overrides it)");
+  t->bindCustom(
+      "segmenter.dynamic_classes",
+      [o](const std::string& v) {
+        if (splitClassNames(v).empty()) o->dynamic_classes.reset();
+        else o->dynamic_classes = splitClassNames(v);
+      },
+      [o] {
+        std::string joined;
+        for (const std::string& n : o->dynamic_classes.value_or(std::vector<std::string>{}))
+          joined += (joined.empty() ? "" : ",") + n;
+        return joined;
+      },
+      "text",
+      "comma-separated class names that may move (empty: person, vehicles, animals; --dynamic-classes overrides it)");
+  t->bind("segmenter.allow_missing_model", &o->allow_missing_model,
+          "if the model cannot be used, warn and go on with the geometric checks only (--allow-missing-model sets it)");
 }
 
 ClassList makeClassList(const SegmenterOptions& options) {

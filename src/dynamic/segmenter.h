@@ -26,6 +26,8 @@
 
 namespace plslam {
 
+class OptionTable;
+
 class Segmenter {
  public:
   virtual ~Segmenter() = default;
@@ -77,6 +79,14 @@ struct SegmenterOptions {
   /// and a logged warning instead of the exception (the run goes on geometry-only).
   bool allow_missing_model = false;
 };
+
+/// Binds the segmenter's configuration keys to `options` (their doc strings are the
+/// reference): segmenter.backend, segmenter.model, segmenter.classes,
+/// segmenter.dynamic_classes, segmenter.allow_missing_model. A bad backend is a ConfigError
+/// naming the key. Each switch of `plslam run` (--segmenter, --classes, ...) overrides its key.
+void bindSegmenterOptions(OptionTable* table, SegmenterOptions* options);
+/// "person, dog,cat" -> {"person", "dog", "cat"}: names trimmed, empty ones skipped.
+std::vector<std::string> splitClassNames(const std::string& list);
 
 /// The class list the options describe (classes_file or the built-in COCO list, with
 /// the dynamic set applied). Throws IoError / ConfigError.

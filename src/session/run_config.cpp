@@ -1,6 +1,8 @@
 #include "session/run_config.h"
 
 #include <fstream>
+#include <iterator>
+#include <map>
 #include <sstream>
 
 #include "calibration/base_transform.h"
@@ -42,24 +44,26 @@ void applySwitches(const RunSwitches& s, SystemOptions* options) {
   if (s.no_lines) options->use_lines = false;
   if (s.no_dynamic) options->dynamic.enabled = false;
   if (s.no_loop) options->use_loop = false;
-  if (s.segmenter == "none" || s.segmenter == "replay") {
-    options->segmenter.kind = parseSegmenterKind(s.segmenter);
-  } else {
-    options->segmenter.kind = SegmenterKind::kYolo;
-    options->segmenter.yolo.model_path = s.segmenter;
+  SegmenterOptions& seg = options->segmenter;
+  if (s.segmenter == "none" || s.segmenter == "replay" || s.segmenter == "yolo") {
+    seg.kind = parseSegmenterKind(s.segmenter);
+  } else if (!s.segmenter.empty()) {
+    seg.kind = SegmenterKind::kYolo;
+    seg.yolo.model_path = s.segmenter;
   }
-  options->segmenter.classes_file = s.classes;
-  if (!s.dynamic_classes.empty()) {
-    std::vector<std::string> names;
-    std::stringstream list(s.dynamic_classes);
-    for (std::string name; std::getline(list, name, ',');)
-      if (!name.empty()) names.push_back(name);
-    options->segmenter.dynamic_classes = names;
-  }
-  options->segmenter.allow_missing_model = s.allow_missing_model;
+  if (!s.classes.empty()) seg.classes_file = s.classes;
+  if (!splitClassNames(s.dynamic_classes).empty()) seg.dynamic_classes = splitClassNames(s.dynamic_classes);
+  if (s.allow_missing_model) seg.allow_missing_model = true;
   if (!s.base.empty()) options->camera_to_base = s.base;
 }
 
+// A saved map's configuration without its segmenter.* keys: which segmenter runs (a replay
+// of a folder's masks, a model file of another machine) is the session's choice.
+std::map<std::string, std::string> withoutSegmenter(std::map<std::string, std::string> values) {
+  for (auto it = values.begin(); it != values.end();)
+    it = it->first.rfind("segmenter.", 0) == 0 ? values.erase(it) : std::next(it);
+  return values;
+}
 
 }  // namespace
 
@@ -72,7 +76,8 @@ RunConfig makeRunConfig(const RunSwitches& switches, const std::string& title) {
     config.map = loadMap(switches.map);
     bindOptions(&table, &config.options);
     if (!config.map->config_yaml.empty())
-      table.apply(parseYamlSubset(config.map->config_yaml, switches.map), switches.map + " (saved configuration)");
+      table.apply(withoutSegmenter(parseYamlSubset(config.map->config_yaml, switches.map)),
+                  switches.map + " (saved configuration)");
     if (!switches.config.empty())
       table.apply(parseYamlSubset(readTextFile(switches.config), switches.config), switches.config);
     config.options.tracker.localization_only = switches.localize;

@@ -30,9 +30,10 @@ struct RunSwitches {
   bool no_lines = false;           ///< points only
   bool no_dynamic = false;         ///< no rejection of moving objects
   bool no_loop = false;            ///< no loop closure
-  std::string segmenter = "none";  ///< none, replay, or a YOLOv8-seg .onnx file
-  std::string classes;             ///< class names file (empty: COCO)
-  std::string dynamic_classes;     ///< comma-separated names that may move (empty: the default set)
+  // The segmenter switches override the segmenter.* keys of the files; empty / false: not given.
+  std::string segmenter;           ///< none, replay, yolo (model: segmenter.model) or a YOLOv8-seg .onnx file
+  std::string classes;             ///< class names file (over segmenter.classes)
+  std::string dynamic_classes;     ///< comma-separated names that may move (over segmenter.dynamic_classes)
   bool allow_missing_model = false;  ///< go on with the geometric checks when the model cannot be used
   std::string base;                ///< camera-to-base file of `plslam calib base` (over calibration.camera_to_base)
 };
@@ -44,8 +45,9 @@ struct RunConfig {
   std::optional<LoadedMap> map;   ///< the saved map, when switches.map was given
 };
 
-/// Applies `switches` in the order of `plslam run`: the map's saved configuration, then
-/// the YAML file, then the switches; then loads the camera-to-base file
+/// Applies `switches` in the order of `plslam run`: the map's saved configuration (but for
+/// its segmenter.* keys: the segmenter belongs to the session, not to the map), then the
+/// YAML file, then the switches; then loads the camera-to-base file
 /// (calibration.camera_to_base) into options.dense.T_base_cam, the one place it is read. `title` heads config_yaml. Throws ConfigError for a
 /// bad combination (localize without map) or key, IoError for an unreadable file.
 RunConfig makeRunConfig(const RunSwitches& switches, const std::string& title);

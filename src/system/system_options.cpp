@@ -80,6 +80,7 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
   t->bind("dynamic.propagate_masks", &d.propagate_masks, "carry late masks (threaded mode, or replay_latency_frames > 0) to the current frame by optical flow per instance");
   t->bind("dynamic.yolo_confidence", &o->segmenter.yolo.confidence, "YOLOv8-seg minimum class score");
   t->bind("dynamic.yolo_nms_iou", &o->segmenter.yolo.nms_iou, "YOLOv8-seg class-aware NMS overlap");
+  bindSegmenterOptions(t, &o->segmenter);
 
   LoopOptions& l = o->loop;
   t->bind("system.use_loop", &o->use_loop, "loop closure (place recognition, verification, pose graph)");

@@ -46,7 +46,7 @@ TEST(DenseFiles, EveryProductIsWrittenAndReadsBack) {
     sizes[std::filesystem::path(f.path).filename().string()] = f.bytes;
     EXPECT_EQ(std::filesystem::file_size(f.path), f.bytes) << f.path;
   }
-  for (const char* name : {kMapFrameYaml, kDenseCloudPcd, kDenseCloudPly, kOctomapBt, kOctomapSemanticOt, kGridPgm, kGridYaml,
+  for (const char* name : {kMapFrameYaml, kDenseCloudPcd, kDenseCloudPly, kOctomapBt, kOctomapSemanticOt, kOctomapLabelsOt, kGridPgm, kGridYaml,
                            kDenseSummaryJson})
     EXPECT_EQ(sizes.count(name), 1u) << name;
   // No temporary file is left behind.

@@ -28,6 +28,7 @@
 #include <memory>
 #include <mutex>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 #include "camera/camera_file.h"
@@ -359,4 +360,33 @@ TEST(RosNode, RealSequenceAteNextToPlslamRun) {
               node_ev.ate.stats.rmse, node_ev.ate.stats.count, run_ev.ate.stats.rmse, run_ev.ate.stats.count,
               rosCounts(stats).c_str());
   EXPECT_LT(node_ev.ate.stats.rmse, std::max(0.03, 2 * run_ev.ate.stats.rmse));
+}
+
+// The node takes the segmenter from its ~config file as plslam run does, and its
+// ~segmenter parameter overrides the key (session/run_config.h, the one mapping).
+TEST(RosNode, SegmenterComesFromTheConfigAndTheParameterOverridesIt) {
+  test::RosMaster master;
+  ASSERT_TRUE(master.ok()) << master.why();
+  const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, 20);
+  const std::string scratch = test::scratchDir("rosnode_segmenter");
+  const std::string cfg = scratch + "/segmenter.yaml";
+  // A model that cannot be used, allowed: the node goes on geometry-only but keeps the choice.
+  std::ofstream(cfg) << "segmenter:\n  backend: yolo\n  model: /nonexistent/seg.onnx\n  allow_missing_model: true\n";
+  for (const auto& [name, extra, expected] :
+       std::vector<std::tuple<std::string, std::string, std::string>>{{"by_key", "", "yolo"},
+                                                                        {"by_param", "_segmenter:=none", "none"}}) {
+    const std::string out = scratch + "/" + name;
+    std::vector<std::string> params = {"_config:=" + cfg, "_no_dense:=true"};
+    if (!extra.empty()) params.push_back(extra);
+    const pid_t node = startNode(out, params);
+    ASSERT_GT(node, 0);
+    {
+      CameraPlayer player;
+      player.play(folder, 20);
+    }
+    EXPECT_EQ(stopNode(node), 0) << name;
+    const std::string config = test::readFile(out + "/config.yaml");
+    EXPECT_NE(config.find("backend: \"" + expected + "\""), std::string::npos) << name << "\n" << config;
+    EXPECT_EQ(test::readJson(out + "/stats.json").at("dynamic").at("segmenter"), expected) << name;
+  }
 }

@@ -53,6 +53,80 @@ TEST(RunConfig, SwitchesOverTheFileAndRefusedCombinations) {
   EXPECT_THROW(makeRunConfig(s, "test"), ConfigError);
 }
 
+namespace {
+std::string writeConfig(const std::string& name, const std::string& text) {
+  const std::string path = test::scratchDir("run_config") + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+}  // namespace
+
+TEST(RunConfig, SegmenterKeysGiveTheSameConfigurationAsTheSwitches) {
+  RunSwitches by_file;
+  by_file.config = writeConfig("segmenter.yaml",
+                               "segmenter:\n  backend: yolo\n  model: /models/seg.onnx\n  classes: /models/names.txt\n"
+                               "  dynamic_classes: \"person, dog\"\n  allow_missing_model: true\n");
+  RunSwitches by_switch;
+  by_switch.segmenter = "/models/seg.onnx";
+  by_switch.classes = "/models/names.txt";
+  by_switch.dynamic_classes = "person,dog";
+  by_switch.allow_missing_model = true;
+  const RunConfig a = makeRunConfig(by_file, "test"), b = makeRunConfig(by_switch, "test");
+  for (const SegmenterOptions* s : {&a.options.segmenter, &b.options.segmenter}) {
+    EXPECT_EQ(s->kind, SegmenterKind::kYolo);
+    EXPECT_EQ(s->yolo.model_path, "/models/seg.onnx");
+    EXPECT_EQ(s->classes_file, "/models/names.txt");
+    ASSERT_TRUE(s->dynamic_classes.has_value());
+    EXPECT_EQ(*s->dynamic_classes, (std::vector<std::string>{"person", "dog"}));
+    EXPECT_TRUE(s->allow_missing_model);
+  }
+  EXPECT_EQ(a.config_yaml, b.config_yaml) << "the effective configuration written beside the outputs is the same";
+  EXPECT_NE(a.config_yaml.find("backend: \"yolo\""), std::string::npos) << a.config_yaml;
+
+  // The written configuration gives it back (plslam run --config OUT/config.yaml repeats the run).
+  RunSwitches again;
+  again.config = writeConfig("effective.yaml", b.config_yaml);
+  EXPECT_EQ(makeRunConfig(again, "test").config_yaml, b.config_yaml);
+}
+
+TEST(RunConfig, SegmenterSwitchOverridesTheKeyAndABadValueNamesTheKey) {
+  RunSwitches s;
+  s.config = writeConfig("yolo.yaml", "segmenter:\n  backend: yolo\n  model: /models/seg.onnx\n  classes: /a.txt\n");
+  EXPECT_EQ(makeRunConfig(s, "test").options.segmenter.kind, SegmenterKind::kYolo);
+  s.segmenter = "replay";
+  s.classes = "/b.txt";
+  const RunConfig c = makeRunConfig(s, "test");
+  EXPECT_EQ(c.options.segmenter.kind, SegmenterKind::kReplay);
+  EXPECT_EQ(c.options.segmenter.classes_file, "/b.txt");
+  s.segmenter = "yolo";  // the model of the key
+  EXPECT_EQ(makeRunConfig(s, "test").options.segmenter.yolo.model_path, "/models/seg.onnx");
+
+  RunSwitches bad;
+  bad.config = writeConfig("bad.yaml", "segmenter:\n  backend: yolov9\n");
+  try {
+    makeRunConfig(bad, "test");
+    FAIL() << "a bad segmenter.backend must be refused";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("segmenter.backend"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("yolov9"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(bad.config), std::string::npos) << e.what();
+  }
+}
+
+TEST(RunConfig, SavedMapGivesItsConfigurationButNotItsSegmenter) {
+  const std::string path = test::scratchDir("run_config_map") + "/saved.plmap";  // writeConfig empties its own folder
+  saveMap(path, Map(), loadCameraFile(test::sourceDir() + "/calib/tum_freiburg1.xml"),
+          "system:\n  use_lines: false\nsegmenter:\n  backend: replay\n  classes: /recorded/names.txt\n");
+  RunSwitches s;
+  s.map = path;
+  const RunConfig c = makeRunConfig(s, "test");
+  EXPECT_FALSE(c.options.use_lines) << "the map's own configuration is the base";
+  EXPECT_EQ(c.options.segmenter.kind, SegmenterKind::kNone) << "the segmenter is the session's";
+  EXPECT_EQ(c.options.segmenter.classes_file, "");
+  s.config = writeConfig("yolo_over_map.yaml", "segmenter:\n  backend: yolo\n  model: /m.onnx\n");
+  EXPECT_EQ(makeRunConfig(s, "test").options.segmenter.kind, SegmenterKind::kYolo) << "this session's file sets it";
+}
+
 TEST(LiveSession, PushedFramesWithoutDropsTrackLikeTheSystem) {
   const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, 40);
   const PinholeCamera camera = loadCameraFile(folder + "/camera.xml");

@@ -108,6 +108,25 @@ TEST(BenchCli, MasksReplayTheSyntheticScenesMasksAndSayItInTheTable) {
   EXPECT_EQ(stats.at("dynamic").at("segmenter"), "replay") << stats;
 }
 
+TEST(BenchCli, TakesTheSegmenterFromTheConfigurationAsRunDoes) {
+  const std::string out = test::scratchDir("bench");
+  const std::string cfg = out + "/replay.yaml";
+  std::ofstream(cfg) << "segmenter:\n  backend: replay\n";
+  const CliRun r = run("--runs 1 --scenes dynamic --synthetic-frames 30 --config '" + cfg + "' --shared /nonexistent --out '" +
+                       out + "'");
+  ASSERT_EQ(r.status, 0) << r.out;
+  const std::vector<std::string> row = tableRow(readFile(out + "/results.md"), "synthetic_dynamic");
+  ASSERT_GE(row.size(), 11u);
+  EXPECT_EQ(row[9], "replayed masks") << "dynamic column";
+  const nlohmann::json stats = test::readJson(out + "/synthetic_dynamic/run1/stats.json");
+  EXPECT_EQ(stats.at("dynamic").at("segmenter"), "replay") << stats;
+
+  std::ofstream(cfg) << "segmenter:\n  backend: maskrcnn\n";
+  const CliRun bad = run("--runs 1 --scenes none --config '" + cfg + "' --shared /nonexistent --out '" + out + "/bad'");
+  EXPECT_NE(bad.status, 0) << bad.out;
+  EXPECT_NE(bad.out.find("segmenter.backend"), std::string::npos) << bad.out;
+}
+
 TEST(BenchCli, MasksWithoutAModelForTheTumRowsAreRefusedBeforeAnyRun) {
   namespace fs = std::filesystem;
   const std::string out = test::scratchDir("bench");

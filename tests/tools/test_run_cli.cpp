@@ -118,6 +118,32 @@ TEST(RunCli, BadConfigurationIsRefusedNamingTheKey) {
   EXPECT_NE(r.output.find("--out"), std::string::npos) << r.output;
 }
 
+TEST(RunCli, SegmenterSwitchOverridesTheConfigKey) {
+  const std::string scratch = test::scratchDir("runcli");
+  const std::string cfg = scratch + "/segmenter.yaml";
+  FILE* f = std::fopen(cfg.c_str(), "w");
+  std::fputs("segmenter:\n  backend: yolo\n  model: /nonexistent/seg.onnx\n", f);
+  std::fclose(f);
+  const std::string base = "run --dataset x --calib y --out z --print-config --config " + cfg;
+  auto r = test::runPlslam(base);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("backend: \"yolo\""), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("model: \"/nonexistent/seg.onnx\""), std::string::npos) << r.output;
+  r = test::runPlslam(base + " --segmenter none");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("backend: \"none\""), std::string::npos) << r.output;
+  r = test::runPlslam(base + " --segmenter /other/seg.onnx");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("model: \"/other/seg.onnx\""), std::string::npos) << r.output;
+
+  f = std::fopen(cfg.c_str(), "w");
+  std::fputs("segmenter:\n  backend: maskrcnn\n", f);
+  std::fclose(f);
+  r = test::runPlslam(base);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("segmenter.backend"), std::string::npos) << r.output;
+}
+
 TEST(RunCli, CtrlCStopsAndStillWritesWhatItHas) {
   const std::string scratch = test::scratchDir("runcli");
   const std::string data = syntheticFolder(scratch, 200);

@@ -202,7 +202,11 @@ struct BenchSettings {
 /// The run options of one row: the bench's, with the row's segmenter when masks are asked for.
 SystemOptions rowOptions(const BenchSettings& settings, const SequenceSpec& spec, const TumDataset& dataset) {
   SystemOptions o = settings.options;
-  if (!settings.masks || !o.dynamic.enabled) return o;
+  if (!o.dynamic.enabled) return o;
+  if (!settings.masks) {  // the configuration's segmenter (segmenter.backend), on every row
+    if (o.segmenter.kind == SegmenterKind::kReplay) o.segmenter.replay_labels = replayLabels(dataset);
+    return o;
+  }
   if (spec.kind == "synthetic") {
     o.segmenter.kind = SegmenterKind::kReplay;
     o.segmenter.replay_labels = replayLabels(dataset);
@@ -216,7 +220,10 @@ SystemOptions rowOptions(const BenchSettings& settings, const SequenceSpec& spec
 /// What the "dynamic" column says for a row.
 std::string dynamicLabel(const BenchSettings& settings, const SequenceSpec& spec) {
   if (!settings.options.dynamic.enabled) return "no";
-  if (!settings.masks) return "geometry";
+  if (!settings.masks) {
+    const SegmenterKind kind = settings.options.segmenter.kind;
+    return kind == SegmenterKind::kNone ? "geometry" : kind == SegmenterKind::kReplay ? "replayed masks" : "YOLO masks";
+  }
   return spec.kind == "synthetic" ? "replayed masks" : "YOLO masks";
 }
 
@@ -447,19 +454,26 @@ BenchSettings benchSettings(const Args& args) {
   BenchSettings settings;
   settings.out = args.str("out");
   settings.runs = args.integer("runs", 1, 1000);
-  OptionTable table;
-  loadRunConfig(args.has("config") ? args.str("config") : std::string(), &settings.options, &table);
-  settings.options.sequential = args.has("sequential");
-  if (args.has("no-lines")) settings.options.use_lines = false;
-  if (args.has("no-dynamic")) settings.options.dynamic.enabled = false;
-  if (args.has("no-loop")) settings.options.use_loop = false;
+  // The switches bench shares with run go through run's one mapping (session/run_config.h),
+  // so a configuration file's keys (the segmenter's too) mean the same here.
+  RunSwitches switches;
+  switches.config = args.str("config");
+  switches.sequential = args.has("sequential");
+  switches.no_lines = args.has("no-lines");
+  switches.no_dynamic = args.has("no-dynamic");
+  switches.no_loop = args.has("no-loop");
+  RunConfig config = makeRunConfig(switches, "plslam bench: effective configuration");
+  settings.options = std::move(config.options);
   settings.masks = args.has("masks");
   const std::string pace = args.str("pace");
   if (pace != "recorded" && pace != "fast") throw ConfigError("plslam bench: --pace must be recorded or fast, got '" + pace + "'");
   settings.pace = pace == "fast" ? Pace::kAsFastAsPossible : Pace::kRecorded;
-  settings.model = args.has("model") ? args.str("model") : (fs::path(args.str("shared")) / "models" / "yolov8n-seg-320.onnx").string();
+  const std::string& key_model = settings.options.segmenter.yolo.model_path;
+  settings.model = args.has("model")      ? args.str("model")
+                   : !key_model.empty() ? key_model
+                                        : (fs::path(args.str("shared")) / "models" / "yolov8n-seg-320.onnx").string();
   if (settings.masks && !settings.options.dynamic.enabled) throw ConfigError("plslam bench: --masks and --no-dynamic exclude each other");
-  settings.config_yaml = table.toYaml("plslam bench: effective configuration");
+  settings.config_yaml = config.config_yaml;
   return settings;
 }
 
@@ -589,7 +603,8 @@ int runBench(int argc, char** argv) {
       .flag("no-lines", "points only: no line features")
       .flag("no-dynamic", "no rejection of moving objects (default: geometric checks, no segmenter)")
       .flag("masks", "instance masks too: TUM rows through the YOLOv8-seg model of --model, synthetic rows replayed from their masks/")
-      .option("model", "YOLOv8-seg ONNX model for --masks [default: <shared>/models/yolov8n-seg-320.onnx]")
+      .option("model", "YOLOv8-seg ONNX model for --masks [default: segmenter.model of --config, else "
+                       "<shared>/models/yolov8n-seg-320.onnx]")
       .flag("no-loop", "no loop closure")
       .flag("sequential", "deterministic single-thread order instead of the threaded mode")
       .option("pace", "threaded runs: 'recorded' feeds each frame at its recorded time, as a camera delivers them (and as "

@@ -21,7 +21,7 @@ int runExport(int argc, char** argv) {
       .option("out", "output folder (created if needed)", "", true)
       .flag("pcd", "dense_cloud.pcd: fused cloud, PointXYZRGBL (label = class + 1)")
       .flag("ply", "dense_cloud_semantic.ply: fused cloud with semantic colours and classes")
-      .flag("octomap", "octomap.bt (occupancy) and octomap_semantic.ot (semantic colours)")
+      .flag("octomap", "octomap.bt (occupancy), octomap_semantic.ot (semantic colours) and octomap_labels.ot (class ids)")
       .flag("grid", "grid.pgm + grid.yaml: 2D occupancy grid (ROS map_server)")
       .option("config", "YAML with dense.* keys (default: the map's own configuration)")
       .option("voxel", "fused cloud voxel size (m)")

@@ -52,7 +52,7 @@ int runLiveCommand(int argc, char** argv) {
   // The switches as plslam run's (session/run_config.h): the calibration keys are loaded there.
   RunConfig config = makeRunConfig(runSwitches(args), "plslam live: effective configuration");
   if (config.options.segmenter.kind == SegmenterKind::kReplay)
-    throw ConfigError("plslam live: --segmenter replay replays a recorded folder's masks: use plslam run on it");
+    throw ConfigError("plslam live: the replay segmenter (--segmenter replay, segmenter.backend) replays a recorded folder's masks: use plslam run on it");
   const SystemOptions& options = config.options;
   LiveOptions live;
   live.drop_frames = !(args.has("no-drop") || args.has("sequential"));

@@ -46,7 +46,7 @@ Args runArguments() {
           "map frame), keyframes.txt, map_frame.yaml, sparse_map.ply, stats.json, config.yaml,\n"
           "map.plmap (the map, for --map; written atomically, also after Ctrl-C)\n"
           "and the dense products (unless --no-dense; see plslam export): dense_cloud.pcd, dense_cloud_semantic.ply,\n"
-          "octomap.bt, octomap_semantic.ot, grid.pgm + grid.yaml, dense_products.json; these are also updated while\n"
+          "octomap.bt, octomap_semantic.ot, octomap_labels.ot, grid.pgm + grid.yaml, dense_products.json; these are also updated while\n"
           "the run goes on, every dense.live_every_keyframes keyframes or dense.live_every_s seconds (see --print-config)\n"
           "Every world-frame output but trajectory.txt and keyframes.txt is in the map frame (z up, x forward,\n"
           "origin on the floor below the first camera, or below the base with --base; map_frame.yaml holds T_map_world).\n"
@@ -95,7 +95,8 @@ OpenedSource openRunSource(const Args& args, RunConfig* config) {
   if (segmenter.kind == SegmenterKind::kReplay) {
     const auto* folder = dynamic_cast<const TumDataset*>(&dataset);
     if (!folder || (folder->instanceLabels().empty() && folder->listReport().masks_listed == 0))
-      throw ConfigError("plslam run: --segmenter replay needs a folder with masks.txt (plslam synth writes one): " +
+      throw ConfigError("plslam run: the replay segmenter (--segmenter replay, segmenter.backend) needs a folder "
+                        "with masks.txt (plslam synth writes one): " +
                         dataset.location());
     segmenter.replay_labels = replayLabels(*folder);
   }

@@ -17,11 +17,13 @@ namespace plslam::cli {
 void addRunSwitches(Args* args) {
   args->option("config", "YAML run options (plslam run --print-config shows every key)")
       .flag("no-lines", "points only: no line features")
-      .option("segmenter", "instance masks: none, replay (the folder's masks/, as plslam synth writes), or a YOLOv8-seg .onnx file",
-              "none")
-      .option("classes", "class names file, one a line, in the model's order (default: the COCO names)")
-      .option("dynamic-classes", "comma-separated class names that may move (default: person, animals, vehicles)")
-      .flag("allow-missing-model", "if the model cannot be used, warn and go on with the geometric checks only")
+      .option("segmenter", "instance masks: none, replay (the folder's masks/, as plslam synth writes), yolo (the model "
+                           "of segmenter.model) or a YOLOv8-seg .onnx file [default: the key segmenter.backend, none]")
+      .option("classes", "class names file, one a line, in the model's order [default: segmenter.classes, the COCO names]")
+      .option("dynamic-classes", "comma-separated class names that may move [default: segmenter.dynamic_classes: person, "
+                                 "animals, vehicles]")
+      .flag("allow-missing-model", "if the model cannot be used, warn and go on with the geometric checks only "
+                                   "(segmenter.allow_missing_model)")
       .flag("no-dynamic", "no rejection of moving objects at all")
       .flag("no-loop", "no loop closure")
       .option("map", "start from a saved map (a run's map.plmap); its configuration is the base of this run's")

@@ -32,7 +32,7 @@ NodeSettings NodeSettings::fromParameters(const ros::NodeHandle& pnh) {
   w.no_lines = param(pnh, "no_lines", false);
   w.no_dynamic = param(pnh, "no_dynamic", false);
   w.no_loop = param(pnh, "no_loop", false);
-  w.segmenter = param<std::string>(pnh, "segmenter", "none");
+  w.segmenter = param<std::string>(pnh, "segmenter", "");  // empty: the config's segmenter.backend
   w.classes = param<std::string>(pnh, "classes", "");
   w.dynamic_classes = param<std::string>(pnh, "dynamic_classes", "");
   w.allow_missing_model = param(pnh, "allow_missing_model", false);
