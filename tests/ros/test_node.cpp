@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <nav_msgs/OccupancyGrid.h>
+#include <nav_msgs/Path.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <signal.h>
@@ -359,4 +360,50 @@ TEST(RosNode, RealSequenceAteNextToPlslamRun) {
               node_ev.ate.stats.rmse, node_ev.ate.stats.count, run_ev.ate.stats.rmse, run_ev.ate.stats.count,
               rosCounts(stats).c_str());
   EXPECT_LT(node_ev.ate.stats.rmse, std::max(0.03, 2 * run_ev.ate.stats.rmse));
+}
+
+// ~reset drops the map: the path restarts, and the outputs written at shutdown hold only
+// the new map's poses (its world is the first camera after the reset).
+TEST(RosNode, ResetServiceStartsANewMapAndPath) {
+  test::RosMaster master;
+  ASSERT_TRUE(master.ok()) << master.why();
+  const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, 60);
+  const std::string scratch = test::scratchDir("rosnode_reset");
+  const pid_t node = startNode(scratch + "/node", {"_no_dense:=true"});
+  ASSERT_GT(node, 0);
+  CameraPlayer player;
+  std::mutex path_mutex;
+  nav_msgs::Path last_path;
+  ros::NodeHandle nh;
+  const ros::Subscriber path_sub = nh.subscribe<nav_msgs::Path>("/plslam/path", 10, [&](const auto& msg) {
+    std::lock_guard<std::mutex> lock(path_mutex);
+    last_path = *msg;
+  });
+  player.play(folder, 60);
+  size_t path_before = 0;
+  {
+    std::lock_guard<std::mutex> lock(path_mutex);
+    path_before = last_path.poses.size();
+  }
+  ASSERT_GT(path_before, 10u) << "the first map was tracked";
+  const ros::Time reset_at = ros::Time::now();
+  std_srvs::Trigger reset;
+  ASSERT_TRUE(ros::service::call("/plslam/reset", reset));
+  EXPECT_TRUE(reset.response.success) << reset.response.message;
+  player.play(folder, 30);  // the sequence from its start again: a place the new map has not seen either
+  nav_msgs::Path after;
+  {
+    std::lock_guard<std::mutex> lock(path_mutex);
+    after = last_path;
+  }
+  EXPECT_EQ(stopNode(node), 0);
+
+  ASSERT_FALSE(after.poses.empty());
+  EXPECT_LE(after.poses.size(), 30u) << "the path restarted at the reset";
+  for (const geometry_msgs::PoseStamped& p : after.poses) EXPECT_GT(p.header.stamp, reset_at);
+  const Trajectory written = readTumTrajectory(scratch + "/node/trajectory.txt");
+  ASSERT_FALSE(written.empty());
+  EXPECT_LE(written.size(), 30u);
+  for (const StampedPose& p : written) EXPECT_GT(p.t_ns, ros1::toNs(reset_at));
+  EXPECT_LT(written.front().T_w_c.translation().norm(), 1e-6) << "the new map's world is its first camera";
 }

@@ -337,3 +337,77 @@ TEST(LiveSession, OutcomeAfterALoopCorrectionCarriesTheRevisedTrajectory) {
     if (told.count(p.t_ns)) moved = std::max(moved, (told[p.t_ns].translation() - p.T_w_c.translation()).norm());
   EXPECT_GT(moved, 1e-3);
 }
+
+namespace {
+
+// Pushes `frames` and returns once the session has processed `until` frames in all.
+void pushAndWait(LiveSession* session, const std::vector<RgbdFrame>& frames, int until) {
+  for (const RgbdFrame& f : frames) session->push(deepCopy(f));
+  while (session->counts().processed < until) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+}
+
+std::vector<RgbdFrame> sequenceFrames(const std::string& folder, const PinholeCamera& camera) {
+  TumDataset dataset = TumDataset::open(folder, camera);
+  std::vector<RgbdFrame> frames;
+  for (RgbdFrame frame; dataset.next(&frame);) frames.push_back(deepCopy(frame));
+  return frames;
+}
+
+}  // namespace
+
+// reset() drops the map: the next frame starts a new one (its keyframe count starts again,
+// its world is that frame's camera), and the outputs hold only what came after the reset.
+TEST(LiveSession, ResetStartsANewMapFromTheNextFrame) {
+  constexpr int kBefore = 30, kAfter = 30;
+  const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, kBefore + kAfter);
+  const PinholeCamera camera = loadCameraFile(folder + "/camera.xml");
+  const std::vector<RgbdFrame> frames = sequenceFrames(folder, camera);
+  RunSwitches s;
+  s.sequential = true;
+  SessionOptions so;
+  so.drop_frames = false;
+  so.live_maps = false;
+  so.map_frame_keyframes = 2;
+  LiveSession session(camera, makeRunConfig(s, "test"), so);
+  std::vector<FrameOutcome> outcomes;
+  session.setFrameListener([&](const FrameOutcome& f) { outcomes.push_back(f); });
+  EXPECT_THROW(session.reset(), Error) << "not running yet";
+  session.start();
+  pushAndWait(&session, {frames.begin(), frames.begin() + kBefore}, kBefore);
+  const FrameOutcome before = outcomes.back();
+  ASSERT_TRUE(before.tracked);
+  ASSERT_TRUE(before.map_frame_fixed);
+  ASSERT_GE(before.keyframes, 3);
+  const size_t keyframes_before = session.system().map().keyframes().size();
+  session.reset();
+  EXPECT_FALSE(session.mapFrame().has_value()) << "the map frame goes with the map";
+  EXPECT_TRUE(session.sparseMap().points.empty());
+  pushAndWait(&session, {frames.begin() + kBefore, frames.end()}, kBefore + kAfter);
+  session.stop();
+
+  ASSERT_EQ(outcomes.size(), static_cast<size_t>(kBefore + kAfter));
+  const FrameOutcome& first = outcomes[kBefore];
+  EXPECT_EQ(before.resets, 0);
+  EXPECT_EQ(first.resets, 1);
+  ASSERT_TRUE(first.tracked) << first.reason;
+  EXPECT_EQ(first.keyframes, 1) << "the first frame after the reset makes the new map's first keyframe";
+  EXPECT_FALSE(first.map_frame_fixed) << "fixed anew from the new map";
+  // The new world is the camera of the first frame after the reset, which had moved.
+  EXPECT_LT(first.T_w_c.log().norm(), 1e-9);
+  EXPECT_GT(before.T_w_c.translation().norm(), 0.05);
+  EXPECT_TRUE(outcomes.back().map_frame_fixed);
+  EXPECT_LT(outcomes.back().keyframes, before.keyframes + static_cast<int>(keyframes_before));
+
+  // The outputs are the new map's: its keyframes and its poses, all from after the reset.
+  const TimeNs reset_at = frames[kBefore].t_ns;
+  const Trajectory trajectory = session.system().trajectory();
+  EXPECT_EQ(trajectory.size(), static_cast<size_t>(session.counts().tracked) - kBefore);
+  for (const StampedPose& p : trajectory) EXPECT_GE(p.t_ns, reset_at);
+  for (const auto& [id, kf] : session.system().map().keyframes()) EXPECT_GE(kf.t_ns, reset_at);
+  const std::string out = test::scratchDir("session_reset") + "/out";
+  session.writeOutputs(out, nullptr, false);
+  const Trajectory written = readTumTrajectory(out + "/trajectory.txt");
+  ASSERT_EQ(written.size(), trajectory.size());
+  EXPECT_EQ(written.front().t_ns, reset_at);
+  EXPECT_EQ(session.counts().received, kBefore + kAfter) << "the counts are the session's, across the reset";
+}

@@ -68,6 +68,7 @@ RosNode::RosNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeSettings settings)
   dense_cloud_pub_ = pnh_.advertise<sensor_msgs::PointCloud2>("dense_cloud", 1, true);
   grid_pub_ = pnh_.advertise<nav_msgs::OccupancyGrid>("grid", 1, true);
   save_srv_ = pnh_.advertiseService("save_map", &RosNode::onSave, this);
+  reset_srv_ = pnh_.advertiseService("reset", &RosNode::onReset, this);
   sparse_timer_ = nh_.createWallTimer(ros::WallDuration(settings_.sparse_period_s), &RosNode::onSparseTimer, this);
   path_.header.frame_id = settings_.map_frame;
 
@@ -153,6 +154,10 @@ void RosNode::onFrame(const FrameOutcome& frame) {
   pose.pose = toPose(T_map_base);
   base_pose_pub_.publish(pose);
   path_.header.stamp = header.stamp;
+  if (frame.resets != path_resets_) {  // a new map: a new path
+    path_.poses.clear();
+    path_resets_ = frame.resets;
+  }
   // After a loop correction the whole path is redrawn from the corrected poses (this
   // frame's included); otherwise it grows by this pose.
   // When the map frame was fixed since the last pose, the path is redrawn in it too.
@@ -253,6 +258,24 @@ bool RosNode::onSave(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& r
     response.message = settings_.out;
   } catch (const std::exception& e) {
     response.success = false;
+    response.message = e.what();
+  }
+  return true;
+}
+
+bool RosNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response) {
+  LiveSession* s = session();
+  response.success = false;
+  if (!s || finishing_) {
+    response.message = s ? "finishing" : "no camera yet: nothing to reset";
+    return true;
+  }
+  try {
+    s->reset();
+    response.success = true;
+    response.message = "map dropped: the next frame starts a new one";
+    ROS_INFO("plslam_ros: reset: %s", response.message.c_str());
+  } catch (const std::exception& e) {
     response.message = e.what();
   }
   return true;

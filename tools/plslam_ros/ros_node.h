@@ -74,6 +74,7 @@ class RosNode {
   void onSparseTimer(const ros::WallTimerEvent&);
   void onMaps(const LiveMapsUpdate& update);
   bool onSave(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
+  bool onReset(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
   Json statsExtra() const;
   LiveSession* session() const;
 
@@ -86,7 +87,7 @@ class RosNode {
   ros::Subscriber info_sub_;
   ros::Publisher camera_pose_pub_, base_pose_pub_, path_pub_, points_pub_, lines_pub_, status_pub_;
   ros::Publisher dense_cloud_pub_, grid_pub_;
-  ros::ServiceServer save_srv_;
+  ros::ServiceServer save_srv_, reset_srv_;
   ros::WallTimer sparse_timer_;
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
@@ -96,6 +97,7 @@ class RosNode {
   std::unique_ptr<LiveSession> session_;
   nav_msgs::Path path_;                 // SLAM thread only
   SE3 path_T_map_world_;                // SLAM thread: the map frame path_ is drawn in
+  int path_resets_ = 0;                 // SLAM thread: the session's resets when path_ was started
   std::atomic<int> before_camera_{0};   // image pairs received before the camera was known
   std::atomic<int> unconvertible_{0};   // image pairs that could not be converted
   std::atomic<bool> finishing_{false};
