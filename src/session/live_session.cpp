@@ -31,6 +31,7 @@ LiveSession::LiveSession(const PinholeCamera& camera, RunConfig config, SessionO
       config_yaml_(std::move(config.config_yaml)),
       queue_(session_options_.queue, session_options_.drop_frames ? QueuePolicy::kDropOldest : QueuePolicy::kBlock),
       map_frame_keyframes_(session_options_.map_frame_keyframes) {
+  localizing_ = options_.tracker.localization_only;
   // A saved map keeps its own frame, so that its sessions share one map frame.
   if (config.map && config.map->frame) map_frame_ = config.map->frame;
   makeSystem(config.map ? std::move(config.map->map) : Map(), map_frame_ ? &*map_frame_ : nullptr);
@@ -77,6 +78,7 @@ void LiveSession::reset() {
   }
   // A new map cannot be localised in: the new System maps.
   options_.tracker.localization_only = false;
+  localizing_ = false;
   {
     std::lock_guard<std::mutex> frame_lock(frame_mutex_);
     map_frame_.reset();
@@ -145,6 +147,7 @@ void LiveSession::describe(const RgbdFrame& frame, const TrackingResult& r, Fram
   keyframes_ += r.new_keyframe;
   out->keyframes = keyframes_;
   out->resets = resets_;
+  out->localizing = localizing_;
   if (!mapFrame() && (maps_ ? maps_->settledFrame().has_value() : keyframes_ >= map_frame_keyframes_)) fixMapFrame();
   if (const auto fixed = mapFrame()) {
     out->map_frame_fixed = true;
@@ -165,6 +168,13 @@ void LiveSession::save(const std::string& dir, const Json& stats_extra) {
   std::lock_guard<std::mutex> lock(feed_mutex_);
   const MapFrame frame = fixMapFrame();  // what is saved and what is published from now on agree
   writeRunOutputs(dir, *system_, config_yaml_, stats_extra, "", &frame);
+}
+
+void LiveSession::setLocalization(bool on) {
+  std::lock_guard<std::mutex> lock(feed_mutex_);
+  if (stopped_) throw Error("LiveSession::setLocalization: the session has stopped");
+  system_->setLocalizationOnly(on);
+  localizing_ = on;
 }
 
 SessionCounts LiveSession::counts() const {

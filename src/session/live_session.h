@@ -68,6 +68,7 @@ struct FrameOutcome {
   SE3 T_w_c;                 ///< camera pose in plslam's world (the first camera's optical frame); valid when tracked
   int keyframes = 0;         ///< keyframes made in this session's map so far (0 again after a reset)
   int resets = 0;            ///< reset() calls before this frame: a new value starts a new map, world and path
+  bool localizing = false;   ///< tracked without changing the map (setLocalization)
   double tracking_ms = 0;    ///< System::feed time of this frame
   bool map_frame_fixed = false;  ///< T_map_world is the session's fixed map frame (else none yet)
   SE3 T_map_world;           ///< the map frame of the outputs, when map_frame_fixed
@@ -121,6 +122,11 @@ class LiveSession {
   /// (save(), writeOutputs()) holds the new map and the poses tracked since. Throws Error
   /// before start() or after stop().
   void reset();
+  /// Between two frames: track in the current map without changing it (no keyframes, no
+  /// new landmarks; System::setLocalizationOnly), or map again. As `--localize` with a
+  /// saved map does from the start; reset() goes back to mapping.
+  void setLocalization(bool on);
+  bool localizing() const { return localizing_; }
   SparseMapSnapshot sparseMap() const { return sparseMapSnapshot(currentSystem()->map()); }
   /// The fixed map frame of the outputs; empty until it is fixed.
   std::optional<MapFrame> mapFrame() const;
@@ -166,6 +172,7 @@ class LiveSession {
   std::atomic<int> received_{0}, processed_{0}, tracked_{0};
   int keyframes_ = 0;      // in the current System
   int resets_ = 0;
+  std::atomic<bool> localizing_{false};
   int map_frame_keyframes_;
   mutable std::mutex frame_mutex_;
   std::optional<MapFrame> map_frame_;  // under frame_mutex_

@@ -13,6 +13,7 @@
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <signal.h>
+#include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
 #include <sys/wait.h>
 #include <tf2_ros/buffer.h>
@@ -92,6 +93,7 @@ struct Play {
   std::string camera_file;   ///< empty: <folder>/camera.xml
   bool restamp = true;       ///< stamp each frame when it is sent (else: the folder's stamps)
   bool millimetres = true;   ///< depth as 16UC1 millimetres (else 32FC1 metres)
+  int skip = 0;              ///< frames of the folder not sent before the first one sent
 };
 
 // This test process as a ROS node: the camera's publishers, and what it hears back.
@@ -157,8 +159,10 @@ class CameraPlayer {
     std::this_thread::sleep_for(std::chrono::seconds(1));  // the latched camera_info reaches it first
     Trajectory groundtruth;
     RgbdFrame frame;
+    for (int i = 0; i < how.skip && dataset.next(&frame); ++i) {
+    }
     ros::WallRate rate(30.0);
-    for (int i = 0; i < frames && dataset.next(&frame); ++i) {
+    for (int i = how.skip; i < how.skip + frames && dataset.next(&frame); ++i) {
       sensor_msgs::Image colour = ros1::bgrToImage(frame.bgr, "rgb8");
       sensor_msgs::Image depth = ros1::depthToImage(frame.depth_m, how.millimetres);
       colour.header.frame_id = depth.header.frame_id = "camera_color_optical_frame";
@@ -406,4 +410,41 @@ TEST(RosNode, ResetServiceStartsANewMapAndPath) {
   EXPECT_LE(written.size(), 30u);
   for (const StampedPose& p : written) EXPECT_GT(p.t_ns, ros1::toNs(reset_at));
   EXPECT_LT(written.front().T_w_c.translation().norm(), 1e-6) << "the new map's world is its first camera";
+}
+
+// ~localize true keeps the map as it is while the frames are still tracked in it (the
+// sparse map the node publishes keeps its size, poses keep coming); false maps again.
+TEST(RosNode, LocalizeServiceKeepsTheMapWhileTracking) {
+  constexpr int kPart = 60;
+  test::RosMaster master;
+  ASSERT_TRUE(master.ok()) << master.why();
+  const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, 3 * kPart);
+  const std::string scratch = test::scratchDir("rosnode_localize");
+  const pid_t node = startNode(scratch + "/node", {"_no_dense:=true", "_sparse_period:=0.5"});
+  ASSERT_GT(node, 0);
+  CameraPlayer player;
+  auto seen = [&] {
+    std::lock_guard<std::mutex> lock(player.mutex);
+    return std::make_pair(player.cloud_points, player.latency_ms.size());
+  };
+  player.play(folder, kPart);  // ends 3 s after the last frame: mapped, the sparse map republished
+  const auto [mapped_points, poses_mapping] = seen();
+  ASSERT_GT(mapped_points, 100u);
+  std_srvs::SetBool localize;
+  localize.request.data = true;
+  ASSERT_TRUE(ros::service::call("/plslam/localize", localize));
+  EXPECT_TRUE(localize.response.success) << localize.response.message;
+  Play next;
+  next.skip = kPart;
+  player.play(folder, kPart, next);
+  const auto [localised_points, poses_localising] = seen();
+  EXPECT_EQ(localised_points, mapped_points) << "no landmark added or removed while localising";
+  EXPECT_GT(poses_localising - poses_mapping, static_cast<size_t>(kPart / 5)) << "frames still tracked";
+  localize.request.data = false;
+  ASSERT_TRUE(ros::service::call("/plslam/localize", localize));
+  EXPECT_TRUE(localize.response.success) << localize.response.message;
+  next.skip = 2 * kPart;
+  player.play(folder, kPart, next);
+  EXPECT_NE(seen().first, mapped_points) << "mapping again";
+  EXPECT_EQ(stopNode(node), 0);
 }

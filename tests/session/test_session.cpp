@@ -411,3 +411,58 @@ TEST(LiveSession, ResetStartsANewMapFromTheNextFrame) {
   EXPECT_EQ(written.front().t_ns, reset_at);
   EXPECT_EQ(session.counts().received, kBefore + kAfter) << "the counts are the session's, across the reset";
 }
+
+namespace {
+
+struct MapSize {
+  size_t keyframes = 0, points = 0, lines = 0;
+  bool operator==(const MapSize& o) const { return keyframes == o.keyframes && points == o.points && lines == o.lines; }
+};
+
+MapSize mapSize(const LiveSession& session) {
+  const Map& map = session.system().map();
+  std::lock_guard<std::mutex> lock(map.mutex());
+  return {map.keyframes().size(), map.points().size(), map.lines().size()};
+}
+
+}  // namespace
+
+// setLocalization(true) keeps the map as it is (no keyframe, no landmark added or culled)
+// while the frames are still tracked in it; setLocalization(false) maps again.
+TEST(LiveSession, LocalizationKeepsTheMapAndStillTracks) {
+  constexpr int kPart = 30;
+  const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, 3 * kPart);
+  const PinholeCamera camera = loadCameraFile(folder + "/camera.xml");
+  const std::vector<RgbdFrame> frames = sequenceFrames(folder, camera);
+  RunSwitches s;
+  s.sequential = true;
+  SessionOptions so;
+  so.drop_frames = false;
+  so.live_maps = false;
+  LiveSession session(camera, makeRunConfig(s, "test"), so);
+  std::vector<FrameOutcome> outcomes;
+  session.setFrameListener([&](const FrameOutcome& f) { outcomes.push_back(f); });
+  session.start();
+  auto part = [&](int i) { return std::vector<RgbdFrame>(frames.begin() + i * kPart, frames.begin() + (i + 1) * kPart); };
+  pushAndWait(&session, part(0), kPart);
+  const MapSize mapped = mapSize(session);
+  ASSERT_GE(mapped.keyframes, 2u);
+  session.setLocalization(true);
+  EXPECT_TRUE(session.localizing());
+  pushAndWait(&session, part(1), 2 * kPart);
+  const MapSize localised = mapSize(session);
+  EXPECT_TRUE(localised == mapped) << "keyframes " << mapped.keyframes << " -> " << localised.keyframes << ", points "
+                                   << mapped.points << " -> " << localised.points;
+  int tracked = 0;
+  for (int i = kPart; i < 2 * kPart; ++i) {
+    tracked += outcomes[i].tracked;
+    EXPECT_EQ(outcomes[i].keyframes, outcomes[kPart - 1].keyframes) << i;
+  }
+  EXPECT_EQ(tracked, kPart) << "every frame is still tracked while localising";
+  session.setLocalization(false);
+  EXPECT_FALSE(session.localizing());
+  pushAndWait(&session, part(2), 3 * kPart);
+  session.stop();
+  EXPECT_GT(mapSize(session).keyframes, mapped.keyframes) << "mapping again";
+  EXPECT_EQ(session.system().trajectory().size(), static_cast<size_t>(session.counts().tracked));
+}

@@ -69,6 +69,7 @@ RosNode::RosNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeSettings settings)
   grid_pub_ = pnh_.advertise<nav_msgs::OccupancyGrid>("grid", 1, true);
   save_srv_ = pnh_.advertiseService("save_map", &RosNode::onSave, this);
   reset_srv_ = pnh_.advertiseService("reset", &RosNode::onReset, this);
+  localize_srv_ = pnh_.advertiseService("localize", &RosNode::onLocalize, this);
   sparse_timer_ = nh_.createWallTimer(ros::WallDuration(settings_.sparse_period_s), &RosNode::onSparseTimer, this);
   path_.header.frame_id = settings_.map_frame;
 
@@ -275,6 +276,24 @@ bool RosNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& 
     response.success = true;
     response.message = "map dropped: the next frame starts a new one";
     ROS_INFO("plslam_ros: reset: %s", response.message.c_str());
+  } catch (const std::exception& e) {
+    response.message = e.what();
+  }
+  return true;
+}
+
+bool RosNode::onLocalize(std_srvs::SetBool::Request& request, std_srvs::SetBool::Response& response) {
+  LiveSession* s = session();
+  response.success = false;
+  if (!s || finishing_) {
+    response.message = s ? "finishing" : "no camera yet";
+    return true;
+  }
+  try {
+    s->setLocalization(request.data);
+    response.success = true;
+    response.message = request.data ? "localising: the map is kept as it is" : "mapping";
+    ROS_INFO("plslam_ros: %s", response.message.c_str());
   } catch (const std::exception& e) {
     response.message = e.what();
   }

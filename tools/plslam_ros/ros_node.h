@@ -17,6 +17,7 @@
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_broadcaster.h>
@@ -75,6 +76,7 @@ class RosNode {
   void onMaps(const LiveMapsUpdate& update);
   bool onSave(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
   bool onReset(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
+  bool onLocalize(std_srvs::SetBool::Request& request, std_srvs::SetBool::Response& response);
   Json statsExtra() const;
   LiveSession* session() const;
 
@@ -87,7 +89,7 @@ class RosNode {
   ros::Subscriber info_sub_;
   ros::Publisher camera_pose_pub_, base_pose_pub_, path_pub_, points_pub_, lines_pub_, status_pub_;
   ros::Publisher dense_cloud_pub_, grid_pub_;
-  ros::ServiceServer save_srv_, reset_srv_;
+  ros::ServiceServer save_srv_, reset_srv_, localize_srv_;
   ros::WallTimer sparse_timer_;
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
