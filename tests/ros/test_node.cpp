@@ -38,6 +38,7 @@
 #include "io/dataset.h"
 #include "io/trajectory_file.h"
 #include "ros1/msg_convert.h"
+#include "plslam_ros/ros_messages.h"
 #include "ros_fixture.h"
 #include "support/test_support.h"
 #include "synthetic_cache.h"
@@ -112,6 +113,7 @@ class CameraPlayer {
     pose_sub_ = nh_->subscribe<geometry_msgs::PoseStamped>("/plslam/camera_pose", 400, [this](const auto& msg) {
       std::lock_guard<std::mutex> lock(mutex);
       latency_ms[ros1::toNs(msg->header.stamp)] = (ros::Time::now() - msg->header.stamp).toSec() * 1000.0;
+      camera_poses[ros1::toNs(msg->header.stamp)] = msg->pose;
     });
     base_sub_ = nh_->subscribe<geometry_msgs::PoseStamped>("/plslam/base_pose", 400, [this](const auto& msg) {
       std::lock_guard<std::mutex> lock(mutex);
@@ -179,6 +181,7 @@ class CameraPlayer {
   tf2_ros::Buffer tf_buffer;
   std::mutex mutex;
   std::map<TimeNs, double> latency_ms;  // pose stamp -> receive time - stamp
+  std::map<TimeNs, geometry_msgs::Pose> camera_poses;  // pose stamp -> camera pose
   geometry_msgs::PoseStamped last_base;
   std::string cloud_frame;
   size_t cloud_points = 0;
@@ -447,4 +450,49 @@ TEST(RosNode, LocalizeServiceKeepsTheMapWhileTracking) {
   player.play(folder, kPart, next);
   EXPECT_NE(seen().first, mapped_points) << "mapping again";
   EXPECT_EQ(stopNode(node), 0);
+}
+
+// Without a camera_to_base file, the mounting comes from TF (base_footprint -> the colour
+// image's frame_id, here a static transform as robot_state_publisher would send it): the
+// base pose the node publishes is the camera pose moved by it, and the map frame's origin is
+// below the base.
+TEST(RosNode, CameraToBaseFromTfPlacesTheBase) {
+  test::RosMaster master;
+  ASSERT_TRUE(master.ok()) << master.why();
+  const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, 60);
+  const std::string scratch = test::scratchDir("rosnode_tf_base");
+  CameraPlayer player;
+  tf2_ros::StaticTransformBroadcaster robot;
+  geometry_msgs::TransformStamped mounting;
+  mounting.header.frame_id = "base_footprint";
+  mounting.child_frame_id = "camera_color_optical_frame";  // the frame_id CameraPlayer stamps the images with
+  mounting.transform.translation.x = 0.10;
+  mounting.transform.translation.z = 0.20;
+  mounting.transform.rotation.x = -0.5;
+  mounting.transform.rotation.y = 0.5;
+  mounting.transform.rotation.z = -0.5;
+  mounting.transform.rotation.w = 0.5;
+  robot.sendTransform(mounting);
+  const SE3 T_base_cam(Eigen::Quaterniond(0.5, -0.5, 0.5, -0.5), Eigen::Vector3d(0.10, 0, 0.20));
+  const pid_t node = startNode(scratch + "/node", {"_no_dense:=true", "_tf_wait:=5.0"});
+  ASSERT_GT(node, 0);
+  player.play(folder, 60);
+  geometry_msgs::PoseStamped base;
+  geometry_msgs::Pose camera;
+  {
+    std::lock_guard<std::mutex> lock(player.mutex);
+    base = player.last_base;
+    ASSERT_EQ(player.camera_poses.count(ros1::toNs(base.header.stamp)), 1u) << "a camera pose at the last base pose's stamp";
+    camera = player.camera_poses[ros1::toNs(base.header.stamp)];
+  }
+  EXPECT_EQ(stopNode(node), 0);
+  // T_map_base = T_map_cam * T_base_cam^-1: the camera in the base frame is the TF mounting.
+  const SE3 cam_in_base = ros1::fromPose(base.pose).inverse() * ros1::fromPose(camera);
+  std::printf("[figures] node camera-to-base from TF: published base-to-camera off the TF mounting by %.2e m, %.2e deg\n",
+              (cam_in_base.translation() - T_base_cam.translation()).norm(),
+              (cam_in_base.inverse() * T_base_cam).angle() * 180 / M_PI);
+  EXPECT_LT((cam_in_base.translation() - T_base_cam.translation()).norm(), 1e-5);
+  EXPECT_LT((cam_in_base.inverse() * T_base_cam).angle(), 1e-5);
+  const MapFrame frame = parseMapFrameYaml(test::readFile(scratch + "/node/map_frame.yaml"), "map_frame.yaml");
+  EXPECT_EQ(frame.origin, "base") << "the outputs use the TF mounting too";
 }

@@ -26,6 +26,7 @@
 #include <atomic>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 
 #include "core/json.h"
@@ -37,10 +38,11 @@ namespace plslam::ros1 {
 /// The node's parameters (private namespace, ~name); see README "Under ROS".
 struct NodeSettings {
   RunSwitches switches;            ///< config, map, localize, sequential, no_lines, no_dynamic, no_loop, segmenter,
-                                   ///< base (parameter camera_to_base: `plslam calib base` file; empty: opticalToBase())
+                                   ///< base (parameter camera_to_base: `plslam calib base` file; empty: from TF, else opticalToBase())
   std::string calib;               ///< camera file; empty: the camera_info
   std::string out = "plslam_ros_out";  ///< where the save service and the shutdown write the outputs
   std::string map_frame = "map", odom_frame, base_frame = "base_footprint";
+  double tf_wait_s = 1.0;          ///< without a camera-to-base file: how long the start waits for base_frame -> camera on TF
   SessionOptions session;          ///< queue, drop_frames, map_frame_keyframes
   bool exact_sync = false;         ///< pair colour and depth by equal stamps instead of ApproximateTime
   int sync_queue = 10;             ///< message_filters queue size
@@ -66,7 +68,12 @@ class RosNode {
   using ApproxSync = message_filters::Synchronizer<ApproxPolicy>;
   using ExactSync = message_filters::Synchronizer<ExactPolicy>;
 
-  void startSession(const PinholeCamera& camera);
+  /// Starts the session once the camera is known (at the camera_info, or with ~calib at the
+  /// first image pair); `camera_frame` (the colour frame_id) is where the camera-to-base
+  /// transform is looked up on TF. Once.
+  void startSession(const std::string& camera_frame);
+  /// base_frame -> camera_frame on TF, waiting up to tf_wait_s; none when not there.
+  std::optional<SE3> cameraToBaseFromTf(const std::string& camera_frame);
   void onCameraInfo(const sensor_msgs::CameraInfoConstPtr& info);
   void onImages(const sensor_msgs::ImageConstPtr& colour, const sensor_msgs::ImageConstPtr& depth);
   void onFrame(const FrameOutcome& frame);
@@ -95,6 +102,9 @@ class RosNode {
   tf2_ros::TransformListener tf_listener_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
 
+  std::mutex start_mutex_;              // one start, from whichever callback comes first
+  std::optional<PinholeCamera> camera_; // under start_mutex_: from ~calib or the first camera_info
+  std::optional<RunConfig> config_;     // under start_mutex_: made by the constructor (a bad one fails there), used by the start
   mutable std::mutex session_mutex_;
   std::unique_ptr<LiveSession> session_;
   nav_msgs::Path path_;                 // SLAM thread only
