@@ -369,14 +369,15 @@ TEST(RosNode, RealSequenceAteNextToPlslamRun) {
   EXPECT_LT(node_ev.ate.stats.rmse, std::max(0.03, 2 * run_ev.ate.stats.rmse));
 }
 
-// ~reset drops the map: the path restarts, and the outputs written at shutdown hold only
-// the new map's poses (its world is the first camera after the reset).
+// ~reset drops the map: the path restarts, the latched dense cloud is emptied, and the
+// outputs written at shutdown hold only the new map's poses (its world is the first camera
+// after the reset).
 TEST(RosNode, ResetServiceStartsANewMapAndPath) {
   test::RosMaster master;
   ASSERT_TRUE(master.ok()) << master.why();
   const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, 60);
   const std::string scratch = test::scratchDir("rosnode_reset");
-  const pid_t node = startNode(scratch + "/node", {"_no_dense:=true"});
+  const pid_t node = startNode(scratch + "/node", {});
   ASSERT_GT(node, 0);
   CameraPlayer player;
   std::mutex path_mutex;
@@ -393,10 +394,28 @@ TEST(RosNode, ResetServiceStartsANewMapAndPath) {
     path_before = last_path.poses.size();
   }
   ASSERT_GT(path_before, 10u) << "the first map was tracked";
+  int dense_before = 0;
+  {
+    std::lock_guard<std::mutex> lock(player.mutex);
+    dense_before = player.dense_messages;
+  }
   const ros::Time reset_at = ros::Time::now();
   std_srvs::Trigger reset;
   ASSERT_TRUE(ros::service::call("/plslam/reset", reset));
   EXPECT_TRUE(reset.response.success) << reset.response.message;
+  // The latched dense cloud of the dropped map is replaced by an empty one.
+  for (int i = 0; i < 100; ++i) {
+    {
+      std::lock_guard<std::mutex> lock(player.mutex);
+      if (player.dense_messages > dense_before) break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  {
+    std::lock_guard<std::mutex> lock(player.mutex);
+    ASSERT_GT(player.dense_messages, dense_before) << "a dense cloud message after the reset";
+    EXPECT_EQ(player.dense_points, 0u);
+  }
   player.play(folder, 30);  // the sequence from its start again: a place the new map has not seen either
   nav_msgs::Path after;
   {

@@ -283,6 +283,21 @@ Json RosNode::statsExtra() const {
           {"ros_unconvertible", unconvertible_.load()}};
 }
 
+void RosNode::clearMaps() {
+  // The latched maps of the dropped map would stay on until the new map's first update.
+  std_msgs::Header header;
+  header.stamp = ros::Time::now();
+  header.frame_id = settings_.map_frame;
+  const SparseMapSnapshot none;
+  points_pub_.publish(pointsMessage(none, SE3(), header));
+  lines_pub_.publish(linesMessage(none, SE3(), header));
+  if (!settings_.dense) return;
+  dense_cloud_pub_.publish(denseCloudMessage({}, SE3(), header));
+  nav_msgs::OccupancyGrid grid;
+  grid.header = header;
+  grid_pub_.publish(grid);
+}
+
 bool RosNode::onSave(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response) {
   LiveSession* s = session();
   if (!s || finishing_) {
@@ -310,6 +325,7 @@ bool RosNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& 
   }
   try {
     s->reset();
+    clearMaps();
     response.success = true;
     response.message = "map dropped: the next frame starts a new one";
     ROS_INFO("plslam_ros: reset: %s", response.message.c_str());

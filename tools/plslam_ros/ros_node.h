@@ -83,6 +83,8 @@ class RosNode {
   void onMaps(const LiveMapsUpdate& update);
   bool onSave(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
   bool onReset(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
+  /// After a reset: empty sparse and dense maps on the latched topics.
+  void clearMaps();
   bool onLocalize(std_srvs::SetBool::Request& request, std_srvs::SetBool::Response& response);
   Json statsExtra() const;
   LiveSession* session() const;
