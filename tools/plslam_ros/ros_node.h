@@ -6,7 +6,9 @@
 //
 // Thread safety: the subscriber, timer and service callbacks run on the spinner's threads;
 // publishing from the SLAM thread goes through roscpp publishers, which are thread-safe.
-// The session pointer is set once (first camera_info) under session_mutex_.
+// The session pointer is set once (at the camera_info, or with ~calib at the first image
+// pair; startSession under start_mutex_) under session_mutex_. The services (save_map,
+// reset, localize) call the session, which applies them between two frames.
 #pragma once
 
 #include <message_filters/subscriber.h>
