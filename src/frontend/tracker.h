@@ -157,6 +157,9 @@ class Tracker {
     if (it != T_new_old.end()) T_w_last_ = it->second * T_w_last_;
   }
   const TrackerOptions& options() const { return options_; }
+  /// Switches TrackerOptions::localization_only between two frames (a session asked to stop
+  /// or resume mapping): from the next frame, no keyframes and no landmark counts, or again.
+  void setLocalizationOnly(bool on) { options_.localization_only = on; }
 
  private:
   /// The landmarks of the local keyframes, in first-seen order (caller holds the map lock).

@@ -25,14 +25,29 @@ SparseMapSnapshot sparseMapSnapshot(const Map& map) {
 }
 
 LiveSession::LiveSession(const PinholeCamera& camera, RunConfig config, SessionOptions options)
-    : system_(camera, config.options, config.map ? std::move(config.map->map) : Map()),
+    : camera_(camera),
+      options_(std::move(config.options)),
+      session_options_(std::move(options)),
       config_yaml_(std::move(config.config_yaml)),
-      queue_(options.queue, options.drop_frames ? QueuePolicy::kDropOldest : QueuePolicy::kBlock),
-      map_frame_keyframes_(options.map_frame_keyframes) {
+      queue_(session_options_.queue, session_options_.drop_frames ? QueuePolicy::kDropOldest : QueuePolicy::kBlock),
+      map_frame_keyframes_(session_options_.map_frame_keyframes) {
+  localizing_ = options_.tracker.localization_only;
   // A saved map keeps its own frame, so that its sessions share one map frame.
   if (config.map && config.map->frame) map_frame_ = config.map->frame;
-  corrections_seen_ = system_.map().corrections();  // a loaded map's own corrections are no news
-  if (options.live_maps) maps_ = makeLiveMaps(&system_, options.maps_dir, map_frame_ ? &*map_frame_ : nullptr);
+  makeSystem(config.map ? std::move(config.map->map) : Map(), map_frame_ ? &*map_frame_ : nullptr);
+}
+
+void LiveSession::makeSystem(Map map, const MapFrame* given) {
+  auto system = std::make_shared<System>(camera_, options_, std::move(map));
+  corrections_seen_ = system->map().corrections();  // a loaded map's own corrections are no news
+  maps_ = session_options_.live_maps ? makeLiveMaps(system.get(), session_options_.maps_dir, given) : nullptr;
+  std::lock_guard<std::mutex> lock(system_mutex_);
+  system_ = std::move(system);
+}
+
+std::shared_ptr<System> LiveSession::currentSystem() const {
+  std::lock_guard<std::mutex> lock(system_mutex_);
+  return system_;
 }
 
 LiveSession::~LiveSession() {
@@ -45,9 +60,36 @@ void LiveSession::start() {
   if (started_) throw Error("LiveSession::start called twice");
   started_ = true;
   if (maps_) maps_->setListener(maps_listener_);
-  system_.start();
+  system_->start();
   if (maps_) maps_->start();
   thread_ = std::thread([this] { slamLoop(); });
+}
+
+void LiveSession::reset() {
+  std::lock_guard<std::mutex> lock(feed_mutex_);
+  if (!started_ || stopped_) throw Error("LiveSession::reset: the session is not running");
+  // The old maps read the old System's map: they go first.
+  if (maps_) maps_->stop();
+  maps_.reset();
+  try {
+    system_->finish();
+  } catch (const std::exception& e) {
+    kLog.warn(str("reset: the dropped map's pipeline had failed: ", e.what()));  // dropped anyway
+  }
+  // A new map cannot be localised in: the new System maps.
+  options_.tracker.localization_only = false;
+  localizing_ = false;
+  {
+    std::lock_guard<std::mutex> frame_lock(frame_mutex_);
+    map_frame_.reset();
+  }
+  makeSystem(Map(), nullptr);
+  if (maps_) maps_->setListener(maps_listener_);
+  system_->start();
+  if (maps_) maps_->start();
+  keyframes_ = 0;
+  ++resets_;
+  kLog.info(str("reset ", resets_, ": map dropped, the next frame starts a new one"));
 }
 
 bool LiveSession::push(RgbdFrame frame) {
@@ -63,7 +105,7 @@ void LiveSession::slamLoop() {
       {
         std::lock_guard<std::mutex> lock(feed_mutex_);
         const auto t0 = std::chrono::steady_clock::now();
-        const TrackingResult r = system_.feed(*frame);
+        const TrackingResult r = system_->feed(*frame);
         out.tracking_ms = msSince(t0);
         describe(*frame, r, &out);
       }
@@ -88,7 +130,7 @@ MapFrame LiveSession::fixMapFrame() {
   // The dense floor of the maps while running when they found it (a better floor than the
   // few map points of the first keyframes: 0.59 m apart once on the synthetic static scene).
   const std::optional<MapFrame> settled = maps_ ? maps_->settledFrame() : std::nullopt;
-  const MapFrame frame = settled ? *settled : sparseMapFrame(system_);
+  const MapFrame frame = settled ? *settled : sparseMapFrame(*system_);
   kLog.info(str("map frame fixed from the ", settled ? "dense cloud" : "map points", " (", frame.floor_method,
                 ", origin below the ", frame.origin, "): first camera ", frame.cameraHeight(), " m above the floor"));
   std::lock_guard<std::mutex> lock(frame_mutex_);
@@ -104,6 +146,8 @@ void LiveSession::describe(const RgbdFrame& frame, const TrackingResult& r, Fram
   out->T_w_c = r.T_w_c;
   keyframes_ += r.new_keyframe;
   out->keyframes = keyframes_;
+  out->resets = resets_;
+  out->localizing = localizing_;
   if (!mapFrame() && (maps_ ? maps_->settledFrame().has_value() : keyframes_ >= map_frame_keyframes_)) fixMapFrame();
   if (const auto fixed = mapFrame()) {
     out->map_frame_fixed = true;
@@ -111,19 +155,26 @@ void LiveSession::describe(const RgbdFrame& frame, const TrackingResult& r, Fram
   }
   uint64_t corrections = 0;
   {
-    std::lock_guard<std::mutex> lock(system_.map().mutex());
-    corrections = system_.map().corrections();
+    std::lock_guard<std::mutex> lock(system_->map().mutex());
+    corrections = system_->map().corrections();
   }
   if (corrections == corrections_seen_) return;
   corrections_seen_ = corrections;
   // Between two frames on the feeding thread: the records are this thread's, the map locked.
-  out->revised = std::make_shared<const Trajectory>(system_.trajectory());
+  out->revised = std::make_shared<const Trajectory>(system_->trajectory());
 }
 
 void LiveSession::save(const std::string& dir, const Json& stats_extra) {
   std::lock_guard<std::mutex> lock(feed_mutex_);
   const MapFrame frame = fixMapFrame();  // what is saved and what is published from now on agree
-  writeRunOutputs(dir, system_, config_yaml_, stats_extra, "", &frame);
+  writeRunOutputs(dir, *system_, config_yaml_, stats_extra, "", &frame);
+}
+
+void LiveSession::setLocalization(bool on) {
+  std::lock_guard<std::mutex> lock(feed_mutex_);
+  if (stopped_) throw Error("LiveSession::setLocalization: the session has stopped");
+  system_->setLocalizationOnly(on);
+  localizing_ = on;
 }
 
 SessionCounts LiveSession::counts() const {
@@ -137,13 +188,16 @@ SessionCounts LiveSession::counts() const {
 
 void LiveSession::stop() {
   if (stopped_ || !started_) return;
-  stopped_ = true;
+  {
+    std::lock_guard<std::mutex> lock(feed_mutex_);  // no reset() from here on
+    stopped_ = true;
+  }
   queue_.close();
   thread_.join();
   if (failure_) std::rethrow_exception(failure_);
   // No map update races the end: the final products are built from the final poses.
   if (maps_) maps_->stop();
-  system_.finish();
+  system_->finish();
   const SessionCounts c = counts();
   kLog.info(str("received ", c.received, ", processed ", c.processed, ", dropped ", c.dropped, ", tracked ",
                 c.tracked));
@@ -156,15 +210,16 @@ void LiveSession::writeOutputs(const std::string& dir, const Json& stats_extra, 
   // The dense products first: the floor of their cloud gives the map frame of every output,
   // as in plslam run (without them the run outputs find the floor in the sparse map).
   // A fixed map frame (the one published) is kept for every output.
-  const DenseOptions& dopt = system_.options().dense;
+  const System& system = *system_;
+  const DenseOptions& dopt = system.options().dense;
   const std::optional<MapFrame> fixed = mapFrame();
   if (!dense || !dopt.enabled) {
-    writeRunOutputs(dir, system_, config_yaml_, extra, "", fixed ? &*fixed : nullptr);
+    writeRunOutputs(dir, system, config_yaml_, extra, "", fixed ? &*fixed : nullptr);
     return;
   }
-  const DenseProducts products = buildDenseProducts(system_.map(), system_.camera(), dopt, {}, {}, fixed ? &*fixed : nullptr);
+  const DenseProducts products = buildDenseProducts(system.map(), system.camera(), dopt, {}, {}, fixed ? &*fixed : nullptr);
   writeDenseProducts(dir, products, {}, dopt);
-  writeRunOutputs(dir, system_, config_yaml_, extra, "", &products.frame);
+  writeRunOutputs(dir, system, config_yaml_, extra, "", &products.frame);
 }
 
 }  // namespace plslam

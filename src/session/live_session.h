@@ -19,9 +19,13 @@
 // trajectory_base.txt, the dense products) is in it, so that a front end publishing poses in
 // it (FrameOutcome::T_map_world) and the files agree.
 //
-// Thread safety: push(), save(), sparseMap(), mapFrame() and counts() may be called from any thread,
-// concurrently with the SLAM thread; start(), stop() and writeOutputs() from one owner
-// thread. The frame listener runs on the SLAM thread, the maps listener on the maps
+// reset() drops the map between two frames and starts a new System (an empty map, mapping,
+// a new world and map frame: the next frame initialises it), for a robot that was carried
+// or whose map went wrong; the outputs and poses from then on are the new map's only.
+//
+// Thread safety: push(), save(), reset(), sparseMap(), mapFrame() and counts() may be called
+// from any thread, concurrently with the SLAM thread; start(), stop() and writeOutputs()
+// from one owner thread. The frame listener runs on the SLAM thread, the maps listener on the maps
 // thread: keep them short (publish, do not compute).
 #pragma once
 
@@ -62,7 +66,9 @@ struct FrameOutcome {
   std::string reason;        ///< why, when not tracked
   bool tracked = false;
   SE3 T_w_c;                 ///< camera pose in plslam's world (the first camera's optical frame); valid when tracked
-  int keyframes = 0;         ///< keyframes made in this session so far
+  int keyframes = 0;         ///< keyframes made in this session's map so far (0 again after a reset)
+  int resets = 0;            ///< reset() calls before this frame: a new value starts a new map, world and path
+  bool localizing = false;   ///< tracked without changing the map (setLocalization)
   double tracking_ms = 0;    ///< System::feed time of this frame
   bool map_frame_fixed = false;  ///< T_map_world is the session's fixed map frame (else none yet)
   SE3 T_map_world;           ///< the map frame of the outputs, when map_frame_fixed
@@ -72,6 +78,7 @@ struct FrameOutcome {
   std::shared_ptr<const Trajectory> revised;
 };
 
+/// Frame counts of the whole session (they go on across a reset()).
 struct SessionCounts {
   int received = 0;   ///< frames pushed
   int processed = 0;  ///< frames tracked or attempted
@@ -109,7 +116,18 @@ class LiveSession {
   /// (they read the whole map without its lock: `plslam export` makes them from map.plmap).
   /// Throws what the writing throws.
   void save(const std::string& dir, const Json& stats_extra = nullptr);
-  SparseMapSnapshot sparseMap() const { return sparseMapSnapshot(system_.map()); }
+  /// Drops the map (a loaded one too) between two frames: the current System finishes and
+  /// a new one, mapping, with the same camera and options, takes the next frame as its first.
+  /// The map frame is fixed anew, the maps while running start again, and every later output
+  /// (save(), writeOutputs()) holds the new map and the poses tracked since. Throws Error
+  /// before start() or after stop().
+  void reset();
+  /// Between two frames: track in the current map without changing it (no keyframes, no
+  /// new landmarks; System::setLocalizationOnly), or map again. As `--localize` with a
+  /// saved map does from the start; reset() goes back to mapping.
+  void setLocalization(bool on);
+  bool localizing() const { return localizing_; }
+  SparseMapSnapshot sparseMap() const { return sparseMapSnapshot(currentSystem()->map()); }
   /// The fixed map frame of the outputs; empty until it is fixed.
   std::optional<MapFrame> mapFrame() const;
   SessionCounts counts() const;
@@ -120,20 +138,30 @@ class LiveSession {
   /// in the session's map frame (fixed now if it was not yet).
   void writeOutputs(const std::string& dir, const Json& stats_extra, bool dense);
 
-  const System& system() const { return system_; }
+  /// The current System (a new one after each reset(): do not keep the reference across one).
+  const System& system() const { return *currentSystem(); }
   /// The maps while running (null when off).
   const LiveMaps* liveMaps() const { return maps_.get(); }
 
  private:
   void slamLoop();
+  /// A new System on the session's camera and options, with its maps while running (not started).
+  void makeSystem(Map map, const MapFrame* given);
+  std::shared_ptr<System> currentSystem() const;
   /// Fixes the map frame from the map points when it is not fixed yet. Call between frames
   /// (feed_mutex_ held). Returns it.
   MapFrame fixMapFrame();
   /// Fills `out` from one fed frame; the revised trajectory after a loop correction.
   void describe(const RgbdFrame& frame, const TrackingResult& r, FrameOutcome* out);
 
-  System system_;
-  std::unique_ptr<LiveMaps> maps_;        // after system_: stopped before the System goes
+  PinholeCamera camera_;
+  SystemOptions options_;
+  SessionOptions session_options_;
+  // Replaced by reset() under feed_mutex_ and system_mutex_; readers on other threads
+  // (sparseMap) hold a copy of the pointer, so that a System they read outlives a reset.
+  std::shared_ptr<System> system_;
+  mutable std::mutex system_mutex_;
+  std::unique_ptr<LiveMaps> maps_;        // stopped before its System goes
   std::function<void(const LiveMapsUpdate&)> maps_listener_;
   std::string config_yaml_;
   BoundedQueue<RgbdFrame> queue_;
@@ -142,7 +170,9 @@ class LiveSession {
   std::mutex feed_mutex_;  // held while a frame is fed, so save() sees the System between frames
   std::exception_ptr failure_;
   std::atomic<int> received_{0}, processed_{0}, tracked_{0};
-  int keyframes_ = 0;
+  int keyframes_ = 0;      // in the current System
+  int resets_ = 0;
+  std::atomic<bool> localizing_{false};
   int map_frame_keyframes_;
   mutable std::mutex frame_mutex_;
   std::optional<MapFrame> map_frame_;  // under frame_mutex_

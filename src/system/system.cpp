@@ -247,6 +247,12 @@ void System::finish() {
   pipeline_->rethrowFailure();
 }
 
+void System::setLocalizationOnly(bool on) {
+  options_.tracker.localization_only = on;
+  pipeline_->tracker.setLocalizationOnly(on);
+  kLog.info(on ? "localisation only: the map is kept as it is" : "mapping again");
+}
+
 void System::setKeyframeObserver(std::function<void(Id)> observer) {
   if (pipeline_->started) throw Error("System::setKeyframeObserver after start()");
   pipeline_->keyframe_observer = std::move(observer);

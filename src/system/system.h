@@ -130,6 +130,13 @@ class System {
   /// A failure of the mapping or loop thread stops the pipeline; feed() and finish() then
   /// throw Error naming the thread and the cause (the frames tracked so far stay readable).
   void finish();
+  /// Between two frames (feed()'s thread): track in the map without changing it from the
+  /// next frame on (no keyframes; tracker.localization_only), or map again. Keyframes made
+  /// before the switch are still mapped (threaded: the mapping queue's, within a few frames).
+  /// Loop closure only runs when the System was made mapping (a System made localising has
+  /// none, so it maps without it after a switch).
+  void setLocalizationOnly(bool on);
+  bool localizationOnly() const { return options_.tracker.localization_only; }
   /// Called with each keyframe's id once it is mapped (dense cloud, lines, local BA, and the
   /// loop closer in sequential mode), on the mapping thread: what publishes maps while a run
   /// goes on hooks in here. An exception from it is a mapping-thread failure. Before start().

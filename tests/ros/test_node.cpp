@@ -9,9 +9,11 @@
 #include <gtest/gtest.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <nav_msgs/OccupancyGrid.h>
+#include <nav_msgs/Path.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <signal.h>
+#include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
 #include <sys/wait.h>
 #include <tf2_ros/buffer.h>
@@ -37,6 +39,7 @@
 #include "io/dataset.h"
 #include "io/trajectory_file.h"
 #include "ros1/msg_convert.h"
+#include "plslam_ros/ros_messages.h"
 #include "ros_fixture.h"
 #include "support/test_support.h"
 #include "synthetic_cache.h"
@@ -92,6 +95,7 @@ struct Play {
   std::string camera_file;   ///< empty: <folder>/camera.xml
   bool restamp = true;       ///< stamp each frame when it is sent (else: the folder's stamps)
   bool millimetres = true;   ///< depth as 16UC1 millimetres (else 32FC1 metres)
+  int skip = 0;              ///< frames of the folder not sent before the first one sent
 };
 
 // This test process as a ROS node: the camera's publishers, and what it hears back.
@@ -110,6 +114,7 @@ class CameraPlayer {
     pose_sub_ = nh_->subscribe<geometry_msgs::PoseStamped>("/plslam/camera_pose", 400, [this](const auto& msg) {
       std::lock_guard<std::mutex> lock(mutex);
       latency_ms[ros1::toNs(msg->header.stamp)] = (ros::Time::now() - msg->header.stamp).toSec() * 1000.0;
+      camera_poses[ros1::toNs(msg->header.stamp)] = msg->pose;
     });
     base_sub_ = nh_->subscribe<geometry_msgs::PoseStamped>("/plslam/base_pose", 400, [this](const auto& msg) {
       std::lock_guard<std::mutex> lock(mutex);
@@ -157,8 +162,10 @@ class CameraPlayer {
     std::this_thread::sleep_for(std::chrono::seconds(1));  // the latched camera_info reaches it first
     Trajectory groundtruth;
     RgbdFrame frame;
+    for (int i = 0; i < how.skip && dataset.next(&frame); ++i) {
+    }
     ros::WallRate rate(30.0);
-    for (int i = 0; i < frames && dataset.next(&frame); ++i) {
+    for (int i = how.skip; i < how.skip + frames && dataset.next(&frame); ++i) {
       sensor_msgs::Image colour = ros1::bgrToImage(frame.bgr, "rgb8");
       sensor_msgs::Image depth = ros1::depthToImage(frame.depth_m, how.millimetres);
       colour.header.frame_id = depth.header.frame_id = "camera_color_optical_frame";
@@ -175,6 +182,7 @@ class CameraPlayer {
   tf2_ros::Buffer tf_buffer;
   std::mutex mutex;
   std::map<TimeNs, double> latency_ms;  // pose stamp -> receive time - stamp
+  std::map<TimeNs, geometry_msgs::Pose> camera_poses;  // pose stamp -> camera pose
   geometry_msgs::PoseStamped last_base;
   std::string cloud_frame;
   size_t cloud_points = 0;
@@ -389,4 +397,151 @@ TEST(RosNode, SegmenterComesFromTheConfigAndTheParameterOverridesIt) {
     EXPECT_NE(config.find("backend: \"" + expected + "\""), std::string::npos) << name << "\n" << config;
     EXPECT_EQ(test::readJson(out + "/stats.json").at("dynamic").at("segmenter"), expected) << name;
   }
+}
+
+// ~reset drops the map: the path restarts, the latched dense cloud is emptied, and the
+// outputs written at shutdown hold only the new map's poses (its world is the first camera
+// after the reset).
+TEST(RosNode, ResetServiceStartsANewMapAndPath) {
+  test::RosMaster master;
+  ASSERT_TRUE(master.ok()) << master.why();
+  const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, 60);
+  const std::string scratch = test::scratchDir("rosnode_reset");
+  const pid_t node = startNode(scratch + "/node", {});
+  ASSERT_GT(node, 0);
+  CameraPlayer player;
+  std::mutex path_mutex;
+  nav_msgs::Path last_path;
+  ros::NodeHandle nh;
+  const ros::Subscriber path_sub = nh.subscribe<nav_msgs::Path>("/plslam/path", 10, [&](const auto& msg) {
+    std::lock_guard<std::mutex> lock(path_mutex);
+    last_path = *msg;
+  });
+  player.play(folder, 60);
+  size_t path_before = 0;
+  {
+    std::lock_guard<std::mutex> lock(path_mutex);
+    path_before = last_path.poses.size();
+  }
+  ASSERT_GT(path_before, 10u) << "the first map was tracked";
+  int dense_before = 0;
+  {
+    std::lock_guard<std::mutex> lock(player.mutex);
+    dense_before = player.dense_messages;
+  }
+  const ros::Time reset_at = ros::Time::now();
+  std_srvs::Trigger reset;
+  ASSERT_TRUE(ros::service::call("/plslam/reset", reset));
+  EXPECT_TRUE(reset.response.success) << reset.response.message;
+  // The latched dense cloud of the dropped map is replaced by an empty one.
+  for (int i = 0; i < 100; ++i) {
+    {
+      std::lock_guard<std::mutex> lock(player.mutex);
+      if (player.dense_messages > dense_before) break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  {
+    std::lock_guard<std::mutex> lock(player.mutex);
+    ASSERT_GT(player.dense_messages, dense_before) << "a dense cloud message after the reset";
+    EXPECT_EQ(player.dense_points, 0u);
+  }
+  player.play(folder, 30);  // the sequence from its start again: a place the new map has not seen either
+  nav_msgs::Path after;
+  {
+    std::lock_guard<std::mutex> lock(path_mutex);
+    after = last_path;
+  }
+  EXPECT_EQ(stopNode(node), 0);
+
+  ASSERT_FALSE(after.poses.empty());
+  EXPECT_LE(after.poses.size(), 30u) << "the path restarted at the reset";
+  for (const geometry_msgs::PoseStamped& p : after.poses) EXPECT_GT(p.header.stamp, reset_at);
+  const Trajectory written = readTumTrajectory(scratch + "/node/trajectory.txt");
+  ASSERT_FALSE(written.empty());
+  EXPECT_LE(written.size(), 30u);
+  for (const StampedPose& p : written) EXPECT_GT(p.t_ns, ros1::toNs(reset_at));
+  EXPECT_LT(written.front().T_w_c.translation().norm(), 1e-6) << "the new map's world is its first camera";
+}
+
+// ~localize true keeps the map as it is while the frames are still tracked in it (the
+// sparse map the node publishes keeps its size, poses keep coming); false maps again.
+TEST(RosNode, LocalizeServiceKeepsTheMapWhileTracking) {
+  constexpr int kPart = 60;
+  test::RosMaster master;
+  ASSERT_TRUE(master.ok()) << master.why();
+  const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, 3 * kPart);
+  const std::string scratch = test::scratchDir("rosnode_localize");
+  const pid_t node = startNode(scratch + "/node", {"_no_dense:=true", "_sparse_period:=0.5"});
+  ASSERT_GT(node, 0);
+  CameraPlayer player;
+  auto seen = [&] {
+    std::lock_guard<std::mutex> lock(player.mutex);
+    return std::make_pair(player.cloud_points, player.latency_ms.size());
+  };
+  player.play(folder, kPart);  // ends 3 s after the last frame: mapped, the sparse map republished
+  const auto [mapped_points, poses_mapping] = seen();
+  ASSERT_GT(mapped_points, 100u);
+  std_srvs::SetBool localize;
+  localize.request.data = true;
+  ASSERT_TRUE(ros::service::call("/plslam/localize", localize));
+  EXPECT_TRUE(localize.response.success) << localize.response.message;
+  Play next;
+  next.skip = kPart;
+  player.play(folder, kPart, next);
+  const auto [localised_points, poses_localising] = seen();
+  EXPECT_EQ(localised_points, mapped_points) << "no landmark added or removed while localising";
+  EXPECT_GT(poses_localising - poses_mapping, static_cast<size_t>(kPart / 5)) << "frames still tracked";
+  localize.request.data = false;
+  ASSERT_TRUE(ros::service::call("/plslam/localize", localize));
+  EXPECT_TRUE(localize.response.success) << localize.response.message;
+  next.skip = 2 * kPart;
+  player.play(folder, kPart, next);
+  EXPECT_NE(seen().first, mapped_points) << "mapping again";
+  EXPECT_EQ(stopNode(node), 0);
+}
+
+// Without a camera_to_base file, the mounting comes from TF (base_footprint -> the colour
+// image's frame_id, here a static transform as robot_state_publisher would send it): the
+// base pose the node publishes is the camera pose moved by it, and the map frame's origin is
+// below the base.
+TEST(RosNode, CameraToBaseFromTfPlacesTheBase) {
+  test::RosMaster master;
+  ASSERT_TRUE(master.ok()) << master.why();
+  const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, 60);
+  const std::string scratch = test::scratchDir("rosnode_tf_base");
+  CameraPlayer player;
+  tf2_ros::StaticTransformBroadcaster robot;
+  geometry_msgs::TransformStamped mounting;
+  mounting.header.frame_id = "base_footprint";
+  mounting.child_frame_id = "camera_color_optical_frame";  // the frame_id CameraPlayer stamps the images with
+  mounting.transform.translation.x = 0.10;
+  mounting.transform.translation.z = 0.20;
+  mounting.transform.rotation.x = -0.5;
+  mounting.transform.rotation.y = 0.5;
+  mounting.transform.rotation.z = -0.5;
+  mounting.transform.rotation.w = 0.5;
+  robot.sendTransform(mounting);
+  const SE3 T_base_cam(Eigen::Quaterniond(0.5, -0.5, 0.5, -0.5), Eigen::Vector3d(0.10, 0, 0.20));
+  const pid_t node = startNode(scratch + "/node", {"_no_dense:=true", "_tf_wait:=5.0"});
+  ASSERT_GT(node, 0);
+  player.play(folder, 60);
+  geometry_msgs::PoseStamped base;
+  geometry_msgs::Pose camera;
+  {
+    std::lock_guard<std::mutex> lock(player.mutex);
+    base = player.last_base;
+    ASSERT_EQ(player.camera_poses.count(ros1::toNs(base.header.stamp)), 1u) << "a camera pose at the last base pose's stamp";
+    camera = player.camera_poses[ros1::toNs(base.header.stamp)];
+  }
+  EXPECT_EQ(stopNode(node), 0);
+  // T_map_base = T_map_cam * T_base_cam^-1: the camera in the base frame is the TF mounting.
+  const SE3 cam_in_base = ros1::fromPose(base.pose).inverse() * ros1::fromPose(camera);
+  std::printf("[figures] node camera-to-base from TF: published base-to-camera off the TF mounting by %.2e m, %.2e deg\n",
+              (cam_in_base.translation() - T_base_cam.translation()).norm(),
+              (cam_in_base.inverse() * T_base_cam).angle() * 180 / M_PI);
+  EXPECT_LT((cam_in_base.translation() - T_base_cam.translation()).norm(), 1e-5);
+  EXPECT_LT((cam_in_base.inverse() * T_base_cam).angle(), 1e-5);
+  const MapFrame frame = parseMapFrameYaml(test::readFile(scratch + "/node/map_frame.yaml"), "map_frame.yaml");
+  EXPECT_EQ(frame.origin, "base") << "the outputs use the TF mounting too";
 }

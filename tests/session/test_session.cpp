@@ -411,3 +411,132 @@ TEST(LiveSession, OutcomeAfterALoopCorrectionCarriesTheRevisedTrajectory) {
     if (told.count(p.t_ns)) moved = std::max(moved, (told[p.t_ns].translation() - p.T_w_c.translation()).norm());
   EXPECT_GT(moved, 1e-3);
 }
+
+namespace {
+
+// Pushes `frames` and returns once the session has processed `until` frames in all.
+void pushAndWait(LiveSession* session, const std::vector<RgbdFrame>& frames, int until) {
+  for (const RgbdFrame& f : frames) session->push(deepCopy(f));
+  while (session->counts().processed < until) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+}
+
+std::vector<RgbdFrame> sequenceFrames(const std::string& folder, const PinholeCamera& camera) {
+  TumDataset dataset = TumDataset::open(folder, camera);
+  std::vector<RgbdFrame> frames;
+  for (RgbdFrame frame; dataset.next(&frame);) frames.push_back(deepCopy(frame));
+  return frames;
+}
+
+}  // namespace
+
+// reset() drops the map: the next frame starts a new one (its keyframe count starts again,
+// its world is that frame's camera), and the outputs hold only what came after the reset.
+TEST(LiveSession, ResetStartsANewMapFromTheNextFrame) {
+  constexpr int kBefore = 30, kAfter = 30;
+  const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, kBefore + kAfter);
+  const PinholeCamera camera = loadCameraFile(folder + "/camera.xml");
+  const std::vector<RgbdFrame> frames = sequenceFrames(folder, camera);
+  RunSwitches s;
+  s.sequential = true;
+  SessionOptions so;
+  so.drop_frames = false;
+  so.live_maps = false;
+  so.map_frame_keyframes = 2;
+  LiveSession session(camera, makeRunConfig(s, "test"), so);
+  std::vector<FrameOutcome> outcomes;
+  session.setFrameListener([&](const FrameOutcome& f) { outcomes.push_back(f); });
+  EXPECT_THROW(session.reset(), Error) << "not running yet";
+  session.start();
+  pushAndWait(&session, {frames.begin(), frames.begin() + kBefore}, kBefore);
+  const FrameOutcome before = outcomes.back();
+  ASSERT_TRUE(before.tracked);
+  ASSERT_TRUE(before.map_frame_fixed);
+  ASSERT_GE(before.keyframes, 3);
+  const size_t keyframes_before = session.system().map().keyframes().size();
+  session.reset();
+  EXPECT_FALSE(session.mapFrame().has_value()) << "the map frame goes with the map";
+  EXPECT_TRUE(session.sparseMap().points.empty());
+  pushAndWait(&session, {frames.begin() + kBefore, frames.end()}, kBefore + kAfter);
+  session.stop();
+
+  ASSERT_EQ(outcomes.size(), static_cast<size_t>(kBefore + kAfter));
+  const FrameOutcome& first = outcomes[kBefore];
+  EXPECT_EQ(before.resets, 0);
+  EXPECT_EQ(first.resets, 1);
+  ASSERT_TRUE(first.tracked) << first.reason;
+  EXPECT_EQ(first.keyframes, 1) << "the first frame after the reset makes the new map's first keyframe";
+  EXPECT_FALSE(first.map_frame_fixed) << "fixed anew from the new map";
+  // The new world is the camera of the first frame after the reset, which had moved.
+  EXPECT_LT(first.T_w_c.log().norm(), 1e-9);
+  EXPECT_GT(before.T_w_c.translation().norm(), 0.05);
+  EXPECT_TRUE(outcomes.back().map_frame_fixed);
+  EXPECT_LT(outcomes.back().keyframes, before.keyframes + static_cast<int>(keyframes_before));
+
+  // The outputs are the new map's: its keyframes and its poses, all from after the reset.
+  const TimeNs reset_at = frames[kBefore].t_ns;
+  const Trajectory trajectory = session.system().trajectory();
+  EXPECT_EQ(trajectory.size(), static_cast<size_t>(session.counts().tracked) - kBefore);
+  for (const StampedPose& p : trajectory) EXPECT_GE(p.t_ns, reset_at);
+  for (const auto& [id, kf] : session.system().map().keyframes()) EXPECT_GE(kf.t_ns, reset_at);
+  const std::string out = test::scratchDir("session_reset") + "/out";
+  session.writeOutputs(out, nullptr, false);
+  const Trajectory written = readTumTrajectory(out + "/trajectory.txt");
+  ASSERT_EQ(written.size(), trajectory.size());
+  EXPECT_EQ(written.front().t_ns, reset_at);
+  EXPECT_EQ(session.counts().received, kBefore + kAfter) << "the counts are the session's, across the reset";
+}
+
+namespace {
+
+struct MapSize {
+  size_t keyframes = 0, points = 0, lines = 0;
+  bool operator==(const MapSize& o) const { return keyframes == o.keyframes && points == o.points && lines == o.lines; }
+};
+
+MapSize mapSize(const LiveSession& session) {
+  const Map& map = session.system().map();
+  std::lock_guard<std::mutex> lock(map.mutex());
+  return {map.keyframes().size(), map.points().size(), map.lines().size()};
+}
+
+}  // namespace
+
+// setLocalization(true) keeps the map as it is (no keyframe, no landmark added or culled)
+// while the frames are still tracked in it; setLocalization(false) maps again.
+TEST(LiveSession, LocalizationKeepsTheMapAndStillTracks) {
+  constexpr int kPart = 30;
+  const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, 3 * kPart);
+  const PinholeCamera camera = loadCameraFile(folder + "/camera.xml");
+  const std::vector<RgbdFrame> frames = sequenceFrames(folder, camera);
+  RunSwitches s;
+  s.sequential = true;
+  SessionOptions so;
+  so.drop_frames = false;
+  so.live_maps = false;
+  LiveSession session(camera, makeRunConfig(s, "test"), so);
+  std::vector<FrameOutcome> outcomes;
+  session.setFrameListener([&](const FrameOutcome& f) { outcomes.push_back(f); });
+  session.start();
+  auto part = [&](int i) { return std::vector<RgbdFrame>(frames.begin() + i * kPart, frames.begin() + (i + 1) * kPart); };
+  pushAndWait(&session, part(0), kPart);
+  const MapSize mapped = mapSize(session);
+  ASSERT_GE(mapped.keyframes, 2u);
+  session.setLocalization(true);
+  EXPECT_TRUE(session.localizing());
+  pushAndWait(&session, part(1), 2 * kPart);
+  const MapSize localised = mapSize(session);
+  EXPECT_TRUE(localised == mapped) << "keyframes " << mapped.keyframes << " -> " << localised.keyframes << ", points "
+                                   << mapped.points << " -> " << localised.points;
+  int tracked = 0;
+  for (int i = kPart; i < 2 * kPart; ++i) {
+    tracked += outcomes[i].tracked;
+    EXPECT_EQ(outcomes[i].keyframes, outcomes[kPart - 1].keyframes) << i;
+  }
+  EXPECT_EQ(tracked, kPart) << "every frame is still tracked while localising";
+  session.setLocalization(false);
+  EXPECT_FALSE(session.localizing());
+  pushAndWait(&session, part(2), 3 * kPart);
+  session.stop();
+  EXPECT_GT(mapSize(session).keyframes, mapped.keyframes) << "mapping again";
+  EXPECT_EQ(session.system().trajectory().size(), static_cast<size_t>(session.counts().tracked));
+}

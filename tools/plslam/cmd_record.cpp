@@ -1,7 +1,8 @@
 // plslam record: the live camera (Intel RealSense through ViSP) recorded as a TUM RGB-D
-// folder that plslam run replays exactly.
+// folder that plslam run replays exactly, or (built with ROS) as a bag in TUM's layout.
 #include <chrono>
 #include <cstdio>
+#include <functional>
 #include <memory>
 
 #include "capture/frame_grabber.h"
@@ -11,14 +12,50 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "run_session.h"
+#ifdef PLSLAM_WITH_ROS
+#include "ros1/bag_writer.h"
+#endif
 
 namespace plslam::cli {
 
 namespace {
 
+/// Where the frames go: add() one, close() returns how many were written.
+struct RecordSink {
+  std::function<void(const RgbdFrame&)> add;
+  std::function<int()> close;
+  std::string where;
+};
+
+RecordSink openSink(const Args& args, const PinholeCamera& camera) {
+  if (args.has("out") == args.has("bag")) throw ConfigError("plslam record: give one of --out DIR or --bag FILE.bag");
+  if (args.has("out")) {
+    auto recorder = std::make_shared<TumRecorder>(args.str("out"), camera);
+    return {[recorder](const RgbdFrame& f) { recorder->add(f); },
+            [recorder] {
+              recorder->close();
+              return recorder->written();
+            },
+            recorder->dir()};
+  }
+#ifdef PLSLAM_WITH_ROS
+  auto bag = std::make_shared<ros1::BagWriter>(args.str("bag"), camera);
+  return {[bag](const RgbdFrame& f) { bag->add(f); },
+          [bag] {
+            bag->close();
+            return bag->written();
+          },
+          bag->path()};
+#else
+  throw ConfigError("plslam record --bag: this plslam was built without ROS (install the ROS 1 packages: tools/setup.sh)");
+#endif
+}
+
 int runRecordCommand(int argc, char** argv) {
   Args args("record", "Record the live camera (Intel RealSense through ViSP) as a TUM RGB-D folder for plslam run.");
-  args.option("out", "folder to create (rgb/, depth/, rgb.txt, depth.txt, camera.xml)", "", true)
+  args.option("out", "folder to create (rgb/, depth/, rgb.txt, depth.txt, camera.xml)")
+      .option("bag", "instead of --out: a ROS 1 bag to write, TUM's layout (/camera/rgb/image_color, "
+                     "/camera/depth/image in metres, /camera/rgb/camera_info); needs plslam built with ROS")
       .option("duration", "stop after this many seconds (0: until Ctrl-C)", "0")
       .option("max-frames", "stop after this many frames (0: no limit)", "0")
       .option("fake", "testing: record this TUM folder played at camera rate instead of the camera")
@@ -34,7 +71,7 @@ int runRecordCommand(int argc, char** argv) {
   const int max_frames = args.integer("max-frames", 0, 100000000);
 
   std::unique_ptr<FrameGrabber> grabber = openGrabber(args);
-  TumRecorder recorder(args.str("out"), grabber->intrinsics());
+  RecordSink sink = openSink(args, grabber->intrinsics());
   int frames = 0;
   bool interrupted = false;
   {
@@ -50,18 +87,20 @@ int runRecordCommand(int argc, char** argv) {
       if (duration > 0 && std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >= duration)
         break;
       if (!grabber->grab(&frame)) break;
-      recorder.add(frame);
+      sink.add(frame);
       ++frames;
     }
   }
   grabber->close();
-  recorder.close();
-  std::printf("recorded %d frames: %s\n", recorder.written(), recorder.dir().c_str());
+  const int written = sink.close();
+  std::printf("recorded %d frames: %s\n", written, sink.where.c_str());
   return interrupted ? 130 : 0;
 }
 
 }  // namespace
 
-Command makeRecordCommand() { return {"record", "Record the live RealSense camera as a TUM RGB-D folder", runRecordCommand}; }
+Command makeRecordCommand() {
+  return {"record", "Record the live RealSense camera as a TUM RGB-D folder or a ROS bag", runRecordCommand};
+}
 
 }  // namespace plslam::cli

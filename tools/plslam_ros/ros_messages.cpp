@@ -139,6 +139,8 @@ diagnostic_msgs::DiagnosticArray statusMessage(const FrameOutcome& frame, const 
   std::snprintf(ms, sizeof(ms), "%.2f", latency_ms);
   add("latency_ms", ms);
   add("keyframes", std::to_string(frame.keyframes));
+  add("mode", frame.localizing ? "localising" : "mapping");
+  add("resets", std::to_string(frame.resets));
   add("received", std::to_string(counts.received));
   add("processed", std::to_string(counts.processed));
   add("dropped", std::to_string(counts.dropped));

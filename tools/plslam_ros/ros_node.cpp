@@ -42,6 +42,7 @@ NodeSettings NodeSettings::fromParameters(const ros::NodeHandle& pnh) {
   s.map_frame = param<std::string>(pnh, "map_frame", s.map_frame);
   s.odom_frame = param<std::string>(pnh, "odom_frame", "");
   s.base_frame = param<std::string>(pnh, "base_frame", s.base_frame);
+  s.tf_wait_s = param(pnh, "tf_wait", s.tf_wait_s);
   s.session.queue = param(pnh, "queue", s.session.queue);
   s.session.drop_frames = !param(pnh, "no_drop", false);
   s.session.map_frame_keyframes = param(pnh, "map_frame_keyframes", s.session.map_frame_keyframes);
@@ -59,6 +60,7 @@ NodeSettings NodeSettings::fromParameters(const ros::NodeHandle& pnh) {
 
 RosNode::RosNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeSettings settings)
     : nh_(nh), pnh_(pnh), settings_(std::move(settings)), tf_listener_(tf_buffer_) {
+  config_ = makeRunConfig(settings_.switches, "plslam_ros: effective configuration");
   camera_pose_pub_ = pnh_.advertise<geometry_msgs::PoseStamped>("camera_pose", 10);
   base_pose_pub_ = pnh_.advertise<geometry_msgs::PoseStamped>("base_pose", 10);
   path_pub_ = pnh_.advertise<nav_msgs::Path>("path", 1, true);
@@ -68,6 +70,8 @@ RosNode::RosNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeSettings settings)
   dense_cloud_pub_ = pnh_.advertise<sensor_msgs::PointCloud2>("dense_cloud", 1, true);
   grid_pub_ = pnh_.advertise<nav_msgs::OccupancyGrid>("grid", 1, true);
   save_srv_ = pnh_.advertiseService("save_map", &RosNode::onSave, this);
+  reset_srv_ = pnh_.advertiseService("reset", &RosNode::onReset, this);
+  localize_srv_ = pnh_.advertiseService("localize", &RosNode::onLocalize, this);
   sparse_timer_ = nh_.createWallTimer(ros::WallDuration(settings_.sparse_period_s), &RosNode::onSparseTimer, this);
   path_.header.frame_id = settings_.map_frame;
 
@@ -81,7 +85,7 @@ RosNode::RosNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeSettings settings)
     approx_sync_->registerCallback(&RosNode::onImages, this);
   }
   if (settings_.calib.empty()) info_sub_ = nh_.subscribe("camera/color/camera_info", 1, &RosNode::onCameraInfo, this);
-  else startSession(loadCameraFile(settings_.calib));
+  else camera_ = loadCameraFile(settings_.calib);
   ROS_INFO_STREAM("plslam_ros: colour " << colour_sub_.getTopic() << ", depth " << depth_sub_.getTopic()
                                         << ", camera " << (settings_.calib.empty() ? info_sub_.getTopic() : settings_.calib)
                                         << "; outputs in " << settings_.out);
@@ -89,17 +93,44 @@ RosNode::RosNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeSettings settings)
 
 RosNode::~RosNode() = default;
 
-void RosNode::startSession(const PinholeCamera& camera) {
-  RunConfig config = makeRunConfig(settings_.switches, "plslam_ros: effective configuration");
-  // The mounting is read once, by makeRunConfig (camera_to_base or calibration.camera_to_base).
+void RosNode::startSession(const std::string& camera_frame) {
+  std::lock_guard<std::mutex> start_lock(start_mutex_);
+  if (session() || !camera_ || !config_) return;
+  RunConfig config = std::move(*config_);
+  config_.reset();
+  // The mounting: the file (camera_to_base or calibration.camera_to_base, read by
+  // makeRunConfig), else the robot's TF tree (robot_state_publisher's URDF), else none.
+  std::string source = "a level camera at the base origin (no camera_to_base file, no " + settings_.base_frame + " -> " +
+                       (camera_frame.empty() ? "(no frame_id)" : camera_frame) + " on TF)";
+  if (config.options.dense.T_base_cam) {
+    source = "file " + config.options.camera_to_base;
+  } else if (const std::optional<SE3> from_tf = cameraToBaseFromTf(camera_frame)) {
+    config.options.dense.T_base_cam = from_tf;
+    source = "TF " + settings_.base_frame + " -> " + camera_frame;
+  }
   if (config.options.dense.T_base_cam) frames_ = RobotFrames(*config.options.dense.T_base_cam);
-  auto session = std::make_unique<LiveSession>(camera, std::move(config), settings_.session);
+  ROS_INFO("plslam_ros: camera-to-base from %s", source.c_str());
+  auto session = std::make_unique<LiveSession>(*camera_, std::move(config), settings_.session);
   session->setFrameListener([this](const FrameOutcome& f) { onFrame(f); });
   session->setMapsListener([this](const LiveMapsUpdate& u) { onMaps(u); });
   session->start();
   std::lock_guard<std::mutex> lock(session_mutex_);
   session_ = std::move(session);
-  ROS_INFO("plslam_ros: camera %dx%d fx %.1f fy %.1f: tracking", camera.width, camera.height, camera.fx, camera.fy);
+  ROS_INFO("plslam_ros: camera %dx%d fx %.1f fy %.1f: tracking", camera_->width, camera_->height, camera_->fx, camera_->fy);
+}
+
+std::optional<SE3> RosNode::cameraToBaseFromTf(const std::string& camera_frame) {
+  if (camera_frame.empty()) return std::nullopt;
+  try {
+    // T_base_cam: the camera's pose in the base frame (lookupTransform(target, source)).
+    const geometry_msgs::TransformStamped t =
+        tf_buffer_.lookupTransform(settings_.base_frame, camera_frame, ros::Time(0), ros::Duration(settings_.tf_wait_s));
+    return fromTransform(t.transform);
+  } catch (const tf2::TransformException& e) {
+    ROS_INFO("plslam_ros: no %s -> %s on TF within %.1f s: %s", settings_.base_frame.c_str(), camera_frame.c_str(),
+             settings_.tf_wait_s, e.what());
+    return std::nullopt;
+  }
 }
 
 LiveSession* RosNode::session() const {
@@ -108,12 +139,20 @@ LiveSession* RosNode::session() const {
 }
 
 void RosNode::onCameraInfo(const sensor_msgs::CameraInfoConstPtr& info) {
-  if (session()) return;
-  startSession(cameraFromInfo(*info));
+  {
+    std::lock_guard<std::mutex> lock(start_mutex_);
+    if (camera_) return;
+    camera_ = cameraFromInfo(*info);
+  }
   info_sub_.shutdown();  // the intrinsics of a running System do not change
+  // The colour camera_info's frame is the colour images' (the drivers stamp both alike):
+  // the wait for TF happens here, before the images flow, and they are counted meanwhile.
+  startSession(info->header.frame_id);
 }
 
 void RosNode::onImages(const sensor_msgs::ImageConstPtr& colour, const sensor_msgs::ImageConstPtr& depth) {
+  // With ~calib there is no camera_info: the first pair starts the session with its frame.
+  if (!session() && !finishing_ && !settings_.calib.empty()) startSession(colour->header.frame_id);
   LiveSession* s = session();
   if (!s || finishing_) {
     ++before_camera_;
@@ -153,6 +192,10 @@ void RosNode::onFrame(const FrameOutcome& frame) {
   pose.pose = toPose(T_map_base);
   base_pose_pub_.publish(pose);
   path_.header.stamp = header.stamp;
+  if (frame.resets != path_resets_) {  // a new map: a new path
+    path_.poses.clear();
+    path_resets_ = frame.resets;
+  }
   // After a loop correction the whole path is redrawn from the corrected poses (this
   // frame's included); otherwise it grows by this pose.
   // When the map frame was fixed since the last pose, the path is redrawn in it too.
@@ -240,6 +283,21 @@ Json RosNode::statsExtra() const {
           {"ros_unconvertible", unconvertible_.load()}};
 }
 
+void RosNode::clearMaps() {
+  // The latched maps of the dropped map would stay on until the new map's first update.
+  std_msgs::Header header;
+  header.stamp = ros::Time::now();
+  header.frame_id = settings_.map_frame;
+  const SparseMapSnapshot none;
+  points_pub_.publish(pointsMessage(none, SE3(), header));
+  lines_pub_.publish(linesMessage(none, SE3(), header));
+  if (!settings_.dense) return;
+  dense_cloud_pub_.publish(denseCloudMessage({}, SE3(), header));
+  nav_msgs::OccupancyGrid grid;
+  grid.header = header;
+  grid_pub_.publish(grid);
+}
+
 bool RosNode::onSave(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response) {
   LiveSession* s = session();
   if (!s || finishing_) {
@@ -253,6 +311,43 @@ bool RosNode::onSave(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& r
     response.message = settings_.out;
   } catch (const std::exception& e) {
     response.success = false;
+    response.message = e.what();
+  }
+  return true;
+}
+
+bool RosNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response) {
+  LiveSession* s = session();
+  response.success = false;
+  if (!s || finishing_) {
+    response.message = s ? "finishing" : "no camera yet: nothing to reset";
+    return true;
+  }
+  try {
+    s->reset();
+    clearMaps();
+    response.success = true;
+    response.message = "map dropped: the next frame starts a new one";
+    ROS_INFO("plslam_ros: reset: %s", response.message.c_str());
+  } catch (const std::exception& e) {
+    response.message = e.what();
+  }
+  return true;
+}
+
+bool RosNode::onLocalize(std_srvs::SetBool::Request& request, std_srvs::SetBool::Response& response) {
+  LiveSession* s = session();
+  response.success = false;
+  if (!s || finishing_) {
+    response.message = s ? "finishing" : "no camera yet";
+    return true;
+  }
+  try {
+    s->setLocalization(request.data);
+    response.success = true;
+    response.message = request.data ? "localising: the map is kept as it is" : "mapping";
+    ROS_INFO("plslam_ros: %s", response.message.c_str());
+  } catch (const std::exception& e) {
     response.message = e.what();
   }
   return true;

@@ -6,7 +6,9 @@
 //
 // Thread safety: the subscriber, timer and service callbacks run on the spinner's threads;
 // publishing from the SLAM thread goes through roscpp publishers, which are thread-safe.
-// The session pointer is set once (first camera_info) under session_mutex_.
+// The session pointer is set once (at the camera_info, or with ~calib at the first image
+// pair; startSession under start_mutex_) under session_mutex_. The services (save_map,
+// reset, localize) call the session, which applies them between two frames.
 #pragma once
 
 #include <message_filters/subscriber.h>
@@ -17,6 +19,7 @@
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_broadcaster.h>
@@ -25,6 +28,7 @@
 #include <atomic>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 
 #include "core/json.h"
@@ -36,10 +40,11 @@ namespace plslam::ros1 {
 /// The node's parameters (private namespace, ~name); see README "Under ROS".
 struct NodeSettings {
   RunSwitches switches;            ///< config, map, localize, sequential, no_lines, no_dynamic, no_loop, segmenter,
-                                   ///< base (parameter camera_to_base: `plslam calib base` file; empty: opticalToBase())
+                                   ///< base (parameter camera_to_base: `plslam calib base` file; empty: from TF, else opticalToBase())
   std::string calib;               ///< camera file; empty: the camera_info
   std::string out = "plslam_ros_out";  ///< where the save service and the shutdown write the outputs
   std::string map_frame = "map", odom_frame, base_frame = "base_footprint";
+  double tf_wait_s = 1.0;          ///< without a camera-to-base file: how long the start waits for base_frame -> camera on TF
   SessionOptions session;          ///< queue, drop_frames, map_frame_keyframes
   bool exact_sync = false;         ///< pair colour and depth by equal stamps instead of ApproximateTime
   int sync_queue = 10;             ///< message_filters queue size
@@ -65,7 +70,12 @@ class RosNode {
   using ApproxSync = message_filters::Synchronizer<ApproxPolicy>;
   using ExactSync = message_filters::Synchronizer<ExactPolicy>;
 
-  void startSession(const PinholeCamera& camera);
+  /// Starts the session once the camera is known (at the camera_info, or with ~calib at the
+  /// first image pair); `camera_frame` (the colour frame_id) is where the camera-to-base
+  /// transform is looked up on TF. Once.
+  void startSession(const std::string& camera_frame);
+  /// base_frame -> camera_frame on TF, waiting up to tf_wait_s; none when not there.
+  std::optional<SE3> cameraToBaseFromTf(const std::string& camera_frame);
   void onCameraInfo(const sensor_msgs::CameraInfoConstPtr& info);
   void onImages(const sensor_msgs::ImageConstPtr& colour, const sensor_msgs::ImageConstPtr& depth);
   void onFrame(const FrameOutcome& frame);
@@ -74,6 +84,10 @@ class RosNode {
   void onSparseTimer(const ros::WallTimerEvent&);
   void onMaps(const LiveMapsUpdate& update);
   bool onSave(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
+  bool onReset(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
+  /// After a reset: empty sparse and dense maps on the latched topics.
+  void clearMaps();
+  bool onLocalize(std_srvs::SetBool::Request& request, std_srvs::SetBool::Response& response);
   Json statsExtra() const;
   LiveSession* session() const;
 
@@ -86,16 +100,20 @@ class RosNode {
   ros::Subscriber info_sub_;
   ros::Publisher camera_pose_pub_, base_pose_pub_, path_pub_, points_pub_, lines_pub_, status_pub_;
   ros::Publisher dense_cloud_pub_, grid_pub_;
-  ros::ServiceServer save_srv_;
+  ros::ServiceServer save_srv_, reset_srv_, localize_srv_;
   ros::WallTimer sparse_timer_;
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
 
+  std::mutex start_mutex_;              // one start, from whichever callback comes first
+  std::optional<PinholeCamera> camera_; // under start_mutex_: from ~calib or the first camera_info
+  std::optional<RunConfig> config_;     // under start_mutex_: made by the constructor (a bad one fails there), used by the start
   mutable std::mutex session_mutex_;
   std::unique_ptr<LiveSession> session_;
   nav_msgs::Path path_;                 // SLAM thread only
   SE3 path_T_map_world_;                // SLAM thread: the map frame path_ is drawn in
+  int path_resets_ = 0;                 // SLAM thread: the session's resets when path_ was started
   std::atomic<int> before_camera_{0};   // image pairs received before the camera was known
   std::atomic<int> unconvertible_{0};   // image pairs that could not be converted
   std::atomic<bool> finishing_{false};
