@@ -178,6 +178,16 @@ std::vector<WalkPath> walksFor(SceneKind kind) {
       return {walk(0.0, -0.55, 1.9, 0.15, 11.0, lead), walk(0.0, -0.55, 1.9, 0.15, 11.0, lead - 0.32),
               walk(0.0, -0.55, 1.9, 0.15, 11.0, lead - 0.64), walk(0.2, 0.45, 1.0, 0.2, -7.0, 0.5)};
     }
+    case SceneKind::kLoopWalkers: {
+      // Three in file walking north 1 to 1.3 m in front of the loop's first view (the
+      // camera at (0.7, -0.2) looking east), turning back short of the table. The camera
+      // pans left past them within 2 s; at 3 s all are more than 90 degrees off its axis
+      // and they leave, so the return to the place (the last 2 s) is clear.
+      std::vector<WalkPath> file = {walk(1.6, -0.3, 0.15, 1.0, 4.0, 0.3), walk(1.6, -0.3, 0.15, 1.0, 4.0, -0.3),
+                                    walk(1.6, -0.3, 0.15, 1.0, 4.0, -0.9)};
+      for (WalkPath& w : file) w.leave_s = 3.0;
+      return file;
+    }
     default:
       return {};
   }
@@ -192,17 +202,19 @@ const char* sceneKindName(SceneKind kind) {
     case SceneKind::kLoop: return "loop";
     case SceneKind::kCrowded: return "crowded";
     case SceneKind::kFast: return "fast";
+    case SceneKind::kLoopWalkers: return "loop_walkers";
   }
   return "?";
 }
 
 SceneKind parseSceneKind(const std::string& name) {
-  for (SceneKind k : {SceneKind::kStatic, SceneKind::kDynamic, SceneKind::kLoop, SceneKind::kCrowded, SceneKind::kFast})
+  for (SceneKind k : {SceneKind::kStatic, SceneKind::kDynamic, SceneKind::kLoop, SceneKind::kCrowded, SceneKind::kFast,
+                      SceneKind::kLoopWalkers})
     if (name == sceneKindName(k)) return k;
-  throw ConfigError("unknown synthetic scene '" + name + "' (expected static, dynamic, loop, crowded or fast)");
+  throw ConfigError("unknown synthetic scene '" + name + "' (expected static, dynamic, loop, crowded, fast or loop_walkers)");
 }
 
-int defaultFrameCount(SceneKind kind) { return kind == SceneKind::kLoop ? 450 : 300; }
+int defaultFrameCount(SceneKind kind) { return kind == SceneKind::kLoop || kind == SceneKind::kLoopWalkers ? 450 : 300; }
 
 PinholeCamera syntheticCamera(int width, int height) {
   PinholeCamera c;
@@ -254,7 +266,8 @@ SE3 Scene::cameraPoseAt(TimeNs t_ns) const {
   const double t = nsToSeconds(t_ns - options_.start_ns);
   switch (kind_) {
     case SceneKind::kFast: return fast_path_->poseAt(t);
-    case SceneKind::kLoop: {
+    case SceneKind::kLoop:
+    case SceneKind::kLoopWalkers: {
       const double lap_s = std::max(1, options_.frames - 1) / 30.0 / options_.laps;
       const double th = kTwoPi * t / lap_s;
       const Eigen::Vector3d p(-0.2 + 0.9 * std::cos(th), -0.2 + 0.7 * std::sin(th), 1.4 + 0.06 * std::sin(2 * th));
@@ -306,6 +319,7 @@ std::vector<Box> Scene::movingBoxes(TimeNs t_ns) const {
   std::vector<Box> out;
   const double t = nsToSeconds(t_ns - options_.start_ns);
   for (size_t i = 0; i < walks_.size(); ++i) {
+    if (t >= walks_[i].leave_s) continue;
     auto parts = personBoxes(walks_[i], moving_info_[i].instance_id, options_.seed, t);
     out.insert(out.end(), parts.begin(), parts.end());
   }
@@ -413,7 +427,9 @@ std::string Scene::describe() const {
     const auto& w = walks_[i];
     const auto& m = moving_info_[i];
     os << "person " << m.instance_id << " " << m.class_id << " " << m.class_name << " walk " << w.centre.x() << " "
-       << w.centre.y() << " " << w.a << " " << w.b << " " << w.period_s << " " << w.phase << "\n";
+       << w.centre.y() << " " << w.a << " " << w.b << " " << w.period_s << " " << w.phase;
+    if (std::isfinite(w.leave_s)) os << " leaves_s " << w.leave_s;  // absent when never: older scene.txt files still match
+    os << "\n";
   }
   return os.str();
 }

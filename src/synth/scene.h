@@ -15,6 +15,11 @@
 //            pass, every 11 s from t = 1.5 s) and a fourth one farther away
 //   loop     no moving objects; the camera goes once round an ellipse about the room centre
 //            looking outward at the walls, and its last pose equals its first
+//   loop_walkers  the loop's camera path; three persons walk in file 1 to 1.3 m in front
+//            of the camera across the loop place (the first view, on the east wall) for
+//            the first 2 s of the lap, covering much of the image, and have left the room
+//            from t = 3 s (they vanish out of view): the loop place is occluded at the
+//            first visit and clear at the return
 //   fast     no moving objects; a hand-held camera that is slow for the first 1.2 s, then
 //            alternates bursts of rotation (peaks of FastMotionOptions::max_rotation_deg_s)
 //            and translation (up to about 1 m/s) with calm stretches; colour is motion
@@ -26,6 +31,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -40,13 +46,13 @@
 
 namespace plslam::synth {
 
-enum class SceneKind { kStatic, kDynamic, kLoop, kCrowded, kFast };
+enum class SceneKind { kStatic, kDynamic, kLoop, kCrowded, kFast, kLoopWalkers };
 
-/// "static", "dynamic", "loop", "crowded", "fast".
+/// "static", "dynamic", "loop", "crowded", "fast", "loop_walkers".
 const char* sceneKindName(SceneKind kind);
 /// The inverse of sceneKindName; throws ConfigError naming the accepted names.
 SceneKind parseSceneKind(const std::string& name);
-/// Frames that give the kind TUM-like speeds (loop: one lap at about 0.35 m/s, 25 deg/s).
+/// Frames that give the kind TUM-like speeds (loop and loop_walkers: one lap at about 0.35 m/s, 25 deg/s).
 int defaultFrameCount(SceneKind kind);
 
 /// Depth sensor imperfections (a Kinect-like model).
@@ -123,6 +129,9 @@ struct WalkPath {
   double a = 1.5, b = 0.2;       ///< semi-axes along x and y, metres
   double period_s = 8.0;         ///< time of one round, seconds (negative: clockwise)
   double phase = 0.0;            ///< ellipse angle at t = 0, radians
+  /// The person has left the room from this time on (seconds; infinity: never): no boxes,
+  /// no mask pixels. Chosen by the scene at a time when the person is out of view.
+  double leave_s = std::numeric_limits<double>::infinity();
 };
 
 /// The result of casting a ray into the scene.
@@ -167,7 +176,8 @@ class Scene {
   std::vector<Segment3d> staticEdges() const;
 
   const std::vector<MovingObjectInfo>& movingObjects() const { return moving_info_; }
-  /// The parts of the moving objects at time t (each carries its instance id).
+  /// The parts of the moving objects at time t (each carries its instance id; none of a
+  /// person who has left, WalkPath::leave_s).
   std::vector<Box> movingBoxes(TimeNs t_ns) const;
   /// The static boxes followed by the moving ones at time t (RayHit::box indexes this).
   std::vector<Box> boxesAt(TimeNs t_ns) const;

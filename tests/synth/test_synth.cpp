@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -211,6 +212,36 @@ TEST(SynthScene, CrowdedScenePersonsCoverMoreThanHalfTheImageForAStretch) {
   EXPECT_GE(longest, 20) << "frames in a row with more than half the image covered";
   const std::vector<int> dyn = coverage(SceneKind::kDynamic, 300);
   EXPECT_LT(*std::max_element(dyn.begin(), dyn.end()), 160 * 120 / 2) << "the dynamic scene should not be crowded";
+}
+
+TEST(SynthScene, LoopWalkersOccludeTheFirstVisitOfTheLoopPlaceAndAreGoneAtTheReturn) {
+  const int frames = defaultFrameCount(SceneKind::kLoopWalkers);
+  const Scene s = makeScene(SceneKind::kLoopWalkers, exact(frames));
+  ASSERT_EQ(s.movingObjects().size(), 3u);
+  // The loop scene's lap, pose for pose.
+  const Trajectory lap = makeScene(SceneKind::kLoop, exact(frames)).groundTruth(), gt = s.groundTruth();
+  ASSERT_EQ(gt.size(), lap.size());
+  for (size_t i = 0; i < gt.size(); i += 50) EXPECT_LT((gt[i].T_w_c.inverse() * lap[i].T_w_c).log().norm(), 1e-12) << i;
+  const std::vector<int> cover = coverage(SceneKind::kLoopWalkers, frames);
+  const int image = 160 * 120;
+  // The first second, the loop place's first visit: walkers in every frame, over a third
+  // of the image on average and over half of it at their closest.
+  long first_second = 0;
+  for (int i = 0; i < 30; ++i) {
+    EXPECT_GT(cover[i], image / 10) << "frame " << i;
+    first_second += cover[i];
+  }
+  const int closest = *std::max_element(cover.begin(), cover.begin() + 30);
+  std::printf("loop_walkers: walkers cover %.0f %% of the image on average over the first second, %.0f %% at most\n",
+              100.0 * first_second / (30.0 * image), 100.0 * closest / image);
+  EXPECT_GT(first_second, 30L * image / 3);
+  EXPECT_GT(closest, image / 2);
+  // Out of view before they leave at 3 s (no one vanishes in sight), and none after: the
+  // return to the place (the last 2 s) is clear.
+  for (int i = 75; i < frames; ++i) EXPECT_EQ(cover[i], 0) << "frame " << i;
+  EXPECT_TRUE(s.movingBoxes(s.frameTime(frames - 1)).empty());
+  EXPECT_FALSE(s.movingBoxes(s.frameTime(0)).empty());
+  EXPECT_EQ(parseSceneKind("loop_walkers"), SceneKind::kLoopWalkers);
 }
 
 TEST(SynthScene, LoopEndsWhereItStartedAfterGoingRoundTheRoom) {

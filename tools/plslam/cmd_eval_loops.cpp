@@ -10,6 +10,13 @@
 // (correct proposals / proposals) and recall (correct proposals / queries that have a true
 // match), for four variants: ORB only, LBD only, ORB+LBD, ORB+LBD+semantic.
 //
+// With --mask-dynamic the semantic variant keeps what a run with the same segmenter keeps:
+// the features on potentially dynamic instances (persons...), grown by the dynamic mask's
+// dilation, are dropped before its bags of words and its geometric verification, as the
+// run's dynamic rejection drops a walker's, and those instances count as dynamic in the
+// instance agreement. (A run decides per instance with the geometric check too: a still
+// person is kept there; here the class prior alone decides.)
+//
 // The operating point is the loop closer's threshold (--threshold, default its
 // loop.min_normalised_score). There each variant's appearance-only precision and recall are
 // reported, and the full variant's proposals are also put through the loop closer's
@@ -23,6 +30,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -34,6 +42,7 @@
 #include "core/error.h"
 #include "core/json.h"
 #include "core/log.h"
+#include "dynamic/dynamic_mask.h"
 #include "dynamic/segmenter.h"
 #include "dynamic/semantic_labels.h"
 #include "eval/precision_recall.h"
@@ -46,14 +55,60 @@ namespace plslam::cli {
 
 namespace {
 
+/// Features, lines fitted to depth (points use their keypoint depth) and bags of words.
+struct FrameDescription {
+  FrameFeatures features;
+  FeatureGeometry geometry;
+  KeyframeBow bow;
+};
+
 struct FrameInfo {
   TimeNs t_ns = 0;
   SE3 T_w_c;
-  FrameFeatures features;
-  FeatureGeometry geometry;  ///< the lines fitted to depth (points use their keypoint depth)
-  KeyframeBow bow;
+  FrameDescription all;  ///< every feature
+  /// Without the features on potentially dynamic instances (the semantic variant's); empty
+  /// when no such instance is in view or without --mask-dynamic, and then `all` stands for it.
+  std::optional<FrameDescription> off_dynamic;
   std::vector<KeyframeInstance> instances;
+
+  const FrameDescription& semantic() const { return off_dynamic ? *off_dynamic : all; }
 };
+
+FrameDescription describeFrame(const RgbdFrame& frame, const cv::Mat& mask, const PinholeCamera& camera,
+                               const VocabularySet& vocab) {
+  FeatureOptions fo;
+  fo.parallel = false;
+  FrameDescription d;
+  d.features = extractFeatures(frame, mask, camera, fo);
+  // The loop closer verifies with map lines; here each line is fitted to this frame's depth.
+  d.geometry = linesFittedToDepth(d.features, frame.depth_m, camera);
+  d.bow = describeBow(vocab, d.features);
+  return d;
+}
+
+/// CV_8U, 0 on the pixels of potentially dynamic instances grown by the dynamic mask's
+/// dilation, 255 elsewhere; empty when there are none. Marks those instances dynamic.
+cv::Mat potentiallyDynamicMask(const Segmentation& s, std::vector<InstanceDecision>* decisions) {
+  cv::Mat dynamic_pixels = cv::Mat::zeros(s.instance_ids.size(), CV_8U);
+  bool any = false;
+  for (const Instance& in : s.instances) {
+    InstanceDecision d;
+    d.instance_id = in.id;
+    d.class_id = in.class_id;
+    d.class_name = in.class_name;
+    d.dynamic = in.potentially_dynamic;
+    decisions->push_back(d);
+    if (!in.potentially_dynamic) continue;
+    dynamic_pixels.setTo(255, s.instance_ids == in.id);
+    any = true;
+  }
+  if (!any) return {};
+  const int r = DynamicMaskOptions{}.dilate_px;
+  cv::dilate(dynamic_pixels, dynamic_pixels, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1)));
+  cv::Mat keep;
+  cv::bitwise_not(dynamic_pixels, keep);
+  return keep;
+}
 
 struct Curve {
   std::string name;
@@ -132,6 +187,8 @@ int runEvalLoops(int argc, char** argv) {
       .option("vocab", "vocabulary file (default: the shipped one)")
       .option("segmenter", "instances for the semantic variant: none, replay (masks of the folder) or a YOLOv8-seg .onnx",
               "none")
+      .flag("mask-dynamic", "semantic variant: drop the features on potentially dynamic instances (persons...) before "
+                            "its bags of words and verification, as a run's dynamic rejection does")
       .epilog("example: plslam eval loops --dataset /tmp/loop --out /tmp/loop_pr");
   if (!args.parse(argc, argv)) return 0;
   const double distance = args.number("distance"), angle_deg = args.number("angle"), gap_s = args.number("min-gap");
@@ -142,6 +199,8 @@ int runEvalLoops(int argc, char** argv) {
     if (!(value > 0)) throw ConfigError(str("plslam eval loops: --", name, " must be positive, got ", value));
   const int every = args.integer("every", 1, 10000);
   const std::string dir = args.str("dataset"), out = args.str("out");
+  const bool mask_dynamic = args.has("mask-dynamic");
+  if (mask_dynamic && args.str("segmenter") == "none") throw ConfigError("plslam eval loops: --mask-dynamic needs --segmenter");
   const PinholeCamera camera = loadCameraFile(args.has("calib") ? args.str("calib") : dir + "/camera.xml");
   TumDataset dataset = TumDataset::open(dir, camera);
   if (!dataset.hasGroundtruth()) throw IoError(dir + ": no groundtruth.txt; eval loops needs ground-truth poses");
@@ -154,8 +213,6 @@ int runEvalLoops(int argc, char** argv) {
   so.replay_labels = replayLabels(dataset);
   std::unique_ptr<Segmenter> segmenter = makeSegmenter(so);
 
-  FeatureOptions fo;
-  fo.parallel = false;
   std::vector<FrameInfo> frames;
   RgbdFrame frame;
   ProgressLine line("eval loops");
@@ -166,12 +223,15 @@ int runEvalLoops(int argc, char** argv) {
     FrameInfo f;
     f.t_ns = frame.t_ns;
     f.T_w_c = *T;
-    f.features = extractFeatures(frame, cv::Mat(), camera, fo);
-    // The loop closer verifies with map lines; here each line is fitted to this frame's depth.
-    f.geometry = linesFittedToDepth(f.features, frame.depth_m, camera);
-    f.bow = describeBow(vocab, f.features);
-    if (so.kind != SegmenterKind::kNone)
-      f.instances = describeInstances(segmenter->segment(frame), {}, frame.depth_m, camera);
+    f.all = describeFrame(frame, cv::Mat(), camera, vocab);
+    if (so.kind != SegmenterKind::kNone) {
+      const Segmentation segmentation = segmenter->segment(frame);
+      std::vector<InstanceDecision> decisions;  // potentially dynamic instances are dynamic (with --mask-dynamic)
+      const cv::Mat keep = potentiallyDynamicMask(segmentation, &decisions);
+      if (!keep.empty() && mask_dynamic) f.off_dynamic = describeFrame(frame, keep, camera, vocab);
+      f.instances = describeInstances(segmentation, mask_dynamic ? decisions : std::vector<InstanceDecision>{},
+                                      frame.depth_m, camera);
+    }
     frames.push_back(std::move(f));
     line.update("frame %zu/%zu", i + 1, dataset.size());
   }
@@ -193,12 +253,16 @@ int runEvalLoops(int argc, char** argv) {
   const double diagonal = std::hypot(camera.width, camera.height);
   std::vector<Curve> curves(4);
   for (int v = 0; v < 4; ++v) curves[v].name = std::vector<std::string>{"ORB", "LBD", "ORB+LBD", "ORB+LBD+semantic"}[v];
-  auto variantScore = [&](int v, const FrameInfo& a, const FrameInfo& b) {
-    const double so_ = bowScore(a.bow.orb, b.bow.orb), sl = bowScore(a.bow.lbd, b.bow.lbd);
+  // Variant 4 (v == 3) on the semantic descriptions; `appearance_only` leaves out its
+  // instance factor (the reference score: covisible keyframes are not weighed either).
+  auto variantScore = [&](int v, const FrameInfo& a, const FrameInfo& b, bool appearance_only = false) {
+    const KeyframeBow& ba = v == 3 ? a.semantic().bow : a.all.bow;
+    const KeyframeBow& bb = v == 3 ? b.semantic().bow : b.all.bow;
+    const double so_ = bowScore(ba.orb, bb.orb), sl = bowScore(ba.lbd, bb.lbd);
     if (v == 0) return so_;
     if (v == 1) return sl;
-    double s = combinedScore(so_, sl, !a.bow.lbd.empty() && !b.bow.lbd.empty(), lo);
-    if (v == 3 && !a.instances.empty() && !b.instances.empty())
+    double s = combinedScore(so_, sl, !ba.lbd.empty() && !bb.lbd.empty(), lo);
+    if (v == 3 && !appearance_only && !a.instances.empty() && !b.instances.empty())
       s *= matchInstances(a.instances, b.instances, diagonal, lo.semantic).factor;
     return s;
   };
@@ -221,7 +285,7 @@ int runEvalLoops(int argc, char** argv) {
     for (int v = 0; v < 4; ++v) {
       double reference = 0;
       for (size_t j = 0; j < i; ++j)
-        if (q.t_ns - frames[j].t_ns <= kNsPerSecond) reference = std::max(reference, variantScore(v == 3 ? 2 : v, q, frames[j]));
+        if (q.t_ns - frames[j].t_ns <= kNsPerSecond) reference = std::max(reference, variantScore(v, q, frames[j], true));
       double best = -1;
       size_t best_j = 0;
       for (size_t j = 0; j < i; ++j) {
@@ -232,7 +296,8 @@ int runEvalLoops(int argc, char** argv) {
       const ScoredProposal p{reference > 0 ? best / reference : best, samePlace(q, frames[best_j])};
       if (v == 3 && p.score >= threshold) {
         LoopCandidate c;
-        verifyGeometry(q.features, frames[best_j].features, camera, lo, &c, nullptr, &q.geometry, &frames[best_j].geometry);
+        const FrameDescription &qs = q.semantic(), &cs = frames[best_j].semantic();
+        verifyGeometry(qs.features, cs.features, camera, lo, &c, nullptr, &qs.geometry, &cs.geometry);
         if (c.status == LoopStatus::kAccepted) {
           // A false loop is one whose verified relative pose is wrong: an accepted view just
           // beyond the ground-truth radius (an overlap at 25 degrees) with the right pose is not.

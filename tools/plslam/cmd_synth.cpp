@@ -18,8 +18,8 @@ namespace {
 
 int runSynth(int argc, char** argv) {
   Args args("synth", "Render a synthetic RGB-D scene (colour, depth, instance masks, exact ground truth).");
-  args.option("scene", "static, dynamic, loop, crowded or fast", "static")
-      .option("frames", "number of frames at 30 Hz [default: 300; loop: 450, one lap]")
+  args.option("scene", "static, dynamic, loop, crowded, fast or loop_walkers", "static")
+      .option("frames", "number of frames at 30 Hz [default: 300; loop, loop_walkers: 450, one lap]")
       .option("out", "output folder (TUM layout: rgb/ depth/ masks/ rgb.txt depth.txt masks.txt groundtruth.txt ...)")
       .option("laps", "loop scene: laps round the room over the frames (e.g. --frames 5000 --laps 11 for a long run)", "1")
       .option("seed", "seed of the textures and the noise", "1")
