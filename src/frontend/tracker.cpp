@@ -462,6 +462,9 @@ void Tracker::searchLocalMap(const LocalMap& local, const SE3& T_w_c, const Fram
   po.max_distance = options_.max_descriptor_distance;
   po.ratio = options_.ratio;
   po.octave_window = -1;
+  if (record_visible && kLog.enabled(LogLevel::kDebug))
+    kLog.debug(str("search: local map ", point_ids.size(), " points ", line_ids.size(), " lines, ",
+                   m->visible_points.size(), " points in view, ", predictions.size(), " searched"));
   const PointGrid grid(kp_uv, camera_.width, camera_.height);
   for (const DescriptorMatch& dm :
        matchPointsByProjection(predictions, predicted_desc, grid, kp_octave, f.point_descriptors, po, kp_taken))
