@@ -59,10 +59,14 @@ LiveSession::~LiveSession() {
 void LiveSession::start() {
   if (started_) throw Error("LiveSession::start called twice");
   started_ = true;
+  startPipeline();
+  thread_ = std::thread([this] { slamLoop(); });
+}
+
+void LiveSession::startPipeline() {
   if (maps_) maps_->setListener(maps_listener_);
   system_->start();
   if (maps_) maps_->start();
-  thread_ = std::thread([this] { slamLoop(); });
 }
 
 void LiveSession::reset() {
@@ -84,9 +88,7 @@ void LiveSession::reset() {
     map_frame_.reset();
   }
   makeSystem(Map(), nullptr);
-  if (maps_) maps_->setListener(maps_listener_);
-  system_->start();
-  if (maps_) maps_->start();
+  startPipeline();
   keyframes_ = 0;
   ++resets_;
   kLog.info(str("reset ", resets_, ": map dropped, the next frame starts a new one"));

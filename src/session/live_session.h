@@ -148,6 +148,8 @@ class LiveSession {
   /// A new System on the session's camera and options, with its maps while running (not started).
   void makeSystem(Map map, const MapFrame* given);
   std::shared_ptr<System> currentSystem() const;
+  /// Starts the System and its live maps (with the maps listener): at start() and after a reset.
+  void startPipeline();
   /// Fixes the map frame from the map points when it is not fixed yet. Call between frames
   /// (feed_mutex_ held). Returns it.
   MapFrame fixMapFrame();

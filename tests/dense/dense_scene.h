@@ -34,6 +34,19 @@ struct GtMap {
 /// Renders every `every`-th frame and makes its keyframe cloud at the ground-truth pose.
 GtMap buildGtMap(const GtMapOptions& options);
 
+/// A small map whose products carry a class: the dynamic scene with its persons kept in
+/// (no rejection), 60 frames, a keyframe every 12, 2 cm fused voxels, a 0.1 m octree.
+inline GtMapOptions personsKeptMapOptions() {
+  GtMapOptions o;
+  o.kind = synth::SceneKind::kDynamic;
+  o.frames = 60;
+  o.every = 12;
+  o.reject = false;
+  o.dense.fused_voxel_m = 0.02;
+  o.dense.octree_resolution_m = 0.1;
+  return o;
+}
+
 /// Dense points farther than `static_margin` from every static surface and within
 /// `tolerance` of a moving object at one of `times`: points on the persons' path (the
 /// margin keeps noisy points of the floor and walls out of the count).

@@ -19,13 +19,7 @@ using namespace plslam;
 
 TEST(DenseFiles, EveryProductIsWrittenAndReadsBack) {
   // Persons kept in (no rejection) so the files carry a class.
-  test::GtMapOptions o;
-  o.kind = synth::SceneKind::kDynamic;
-  o.frames = 60;
-  o.every = 12;
-  o.reject = false;
-  o.dense.fused_voxel_m = 0.02;
-  o.dense.octree_resolution_m = 0.1;
+  const test::GtMapOptions o = test::personsKeptMapOptions();
   const test::GtMap g = test::buildGtMap(o);
   std::vector<std::string> stages;
   const auto record = [&](const std::string& stage, size_t, size_t) {

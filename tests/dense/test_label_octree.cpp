@@ -88,13 +88,7 @@ TEST(LabelOctree, RoundTripsThroughOctomapsFactory) {
 
 TEST(LabelOctree, WrittenFileGivesTheSceneVoxelsTheirClasses) {
   // The dynamic scene with its persons kept in (no rejection): person voxels and static ones.
-  test::GtMapOptions o;
-  o.kind = synth::SceneKind::kDynamic;
-  o.frames = 60;
-  o.every = 12;
-  o.reject = false;
-  o.dense.fused_voxel_m = 0.02;
-  o.dense.octree_resolution_m = 0.1;
+  const test::GtMapOptions o = test::personsKeptMapOptions();
   const test::GtMap g = test::buildGtMap(o);
   const DenseProducts p = buildDenseProducts(g.map, g.scene.camera(), o.dense);
   ASSERT_FALSE(p.cancelled);
