@@ -27,6 +27,7 @@ const char* toString(TrackingStatus s) {
     case TrackingStatus::kInitialized: return "initialized";
     case TrackingStatus::kOk: return "ok";
     case TrackingStatus::kRelocalized: return "relocalized";
+    case TrackingStatus::kReanchored: return "reanchored";
     case TrackingStatus::kNotInitialized: return "not_initialized";
     case TrackingStatus::kFewMatches: return "few_matches";
     case TrackingStatus::kNoFeatures: return "no_features";
@@ -42,6 +43,7 @@ const char* toString(TrackingMethod m) {
     case TrackingMethod::kReferenceKeyframe: return "reference_keyframe";
     case TrackingMethod::kWideWindow: return "wide_window";
     case TrackingMethod::kRelocalisation: return "relocalisation";
+    case TrackingMethod::kReanchor: return "reanchor";
   }
   return "unknown";
 }
@@ -63,6 +65,7 @@ void TrackerOptions::validate() const {
   require(relocalisation_recent_keyframes >= 1, "relocalisation_recent_keyframes", ">= 1", relocalisation_recent_keyframes);
   require(near_plane_m > 0, "near_plane_m", "> 0", near_plane_m);
   require(max_speed_m_s > 0, "max_speed_m_s", "> 0", max_speed_m_s);
+  require(reanchor_after_s >= 0, "reanchor_after_s", ">= 0 (0 turns it off)", reanchor_after_s);
 }
 
 Tracker::Tracker(Map* map, PinholeCamera camera, TrackerOptions options, std::shared_ptr<const VocabularySet> vocabulary)
@@ -109,6 +112,7 @@ TrackingResult Tracker::trackInitialised(TimeNs t_ns, const FrameFeatures& f) {
     } else {
       a = relocalise(f, &m);
       if (a.ok) r.method = TrackingMethod::kRelocalisation;
+      else if (shouldReanchor(t_ns, f)) return reanchor(t_ns, f);
     }
     if (!a.ok) r.reason = a.reason;
     r.status = a.ok ? (lost_ ? TrackingStatus::kRelocalized : TrackingStatus::kOk) : TrackingStatus::kFewMatches;
@@ -324,17 +328,46 @@ const FrameWords& Tracker::frameWords(const FrameFeatures& f) {
   return frame_words_;
 }
 
+int Tracker::pointsWithDepth(const FrameFeatures& f) const {
+  int n = 0;
+  for (const Keypoint& k : f.points) n += std::isfinite(k.depth_m) && k.depth_m > 0 && k.depth_m < options_.max_depth_m;
+  return n;
+}
+
 TrackingResult Tracker::initialise(TimeNs t_ns, const FrameFeatures& f) {
-  TrackingResult r;
-  int with_depth = 0;
-  for (const Keypoint& k : f.points)
-    with_depth += std::isfinite(k.depth_m) && k.depth_m > 0 && k.depth_m < options_.max_depth_m;
+  const int with_depth = pointsWithDepth(f);
   if (with_depth < options_.min_init_points) {
+    TrackingResult r;
     r.status = TrackingStatus::kNotInitialized;
     r.reason = str(with_depth, " keypoints with depth, ", options_.min_init_points, " needed to initialise");
     return r;
   }
-  const SE3 T_w_c;  // the first keyframe defines the world frame
+  have_last_ = true;
+  kLog.info(str("initialised at t=", formatSecondsStamp(t_ns), " with ", with_depth, " points"));
+  return startFromDepth(t_ns, f, SE3());  // the first keyframe defines the world frame
+}
+
+bool Tracker::shouldReanchor(TimeNs t_ns, const FrameFeatures& f) const {
+  // A loaded map not yet found, or a map that must not change, has no "last pose" to go on from.
+  if (options_.reanchor_after_s <= 0 || options_.localization_only || search_all_keyframes_) return false;
+  return nsToSeconds(t_ns - t_last_ns_) >= options_.reanchor_after_s && pointsWithDepth(f) >= options_.min_init_points;
+}
+
+TrackingResult Tracker::reanchor(TimeNs t_ns, const FrameFeatures& f) {
+  ++reanchors_;
+  kLog.warn(str("re-anchored at t=", formatSecondsStamp(t_ns), ": lost for ", nsToSeconds(t_ns - t_last_ns_),
+                " s and not relocalised; tracking goes on from a new keyframe at the last tracked pose"));
+  lost_ = false;
+  have_velocity_ = false;
+  TrackingResult r = startFromDepth(t_ns, f, T_w_last_);
+  r.status = TrackingStatus::kReanchored;
+  r.method = TrackingMethod::kReanchor;
+  r.times = times_;
+  return r;
+}
+
+TrackingResult Tracker::startFromDepth(TimeNs t_ns, const FrameFeatures& f, const SE3& T_w_c) {
+  TrackingResult r;
   Matches none;
   none.point_ids.assign(f.points.size(), kNoId);
   none.line_ids.assign(f.lines.size(), kNoId);
@@ -344,11 +377,9 @@ TrackingResult Tracker::initialise(TimeNs t_ns, const FrameFeatures& f) {
   r.status = TrackingStatus::kInitialized;
   r.method = TrackingMethod::kInitialisation;
   r.T_w_c = T_w_c;
-  r.inliers = with_depth;
-  have_last_ = true;
+  r.inliers = pointsWithDepth(f);
   T_w_last_ = T_w_c;
   t_last_ns_ = t_ns;
-  kLog.info(str("initialised at t=", formatSecondsStamp(t_ns), " with ", with_depth, " points"));
   return r;
 }
 

@@ -15,6 +15,12 @@
 // through the vocabulary, PnP RANSAC, refinement with points and lines, and verification
 // by projecting the local map around it. Without a vocabulary the same steps use brute-force
 // matching against the most recent keyframes (every keyframe of a loaded map).
+// When relocalisation has failed for `reanchor_after_s` (the camera went on to places the
+// map never saw, or people covered the view the map was made of), tracking starts again
+// from a new keyframe made from the frame's depth at the last tracked pose, in the same
+// map: the motion during the loss is lost (the trajectory jumps by it) but the camera is
+// not; a later loop closure can pull the two pieces together (loop_closer.cpp weakens the
+// pose-graph edge between keyframes that share no landmark).
 //
 // Thread safety: one Tracker per pipeline, called from one thread; it locks the map's
 // mutex while it reads landmarks. applyMapCorrection is called by the loop closer's thread
@@ -37,6 +43,7 @@ namespace plslam {
 
 enum class TrackingStatus {
   kInitialized,    ///< first usable frame: the map was created from its depth
+  kReanchored,     ///< lost too long to relocalise: a new keyframe at the last tracked pose
   kOk,             ///< tracked
   kRelocalized,    ///< tracked again after being lost
   kNotInitialized, ///< no map yet and this frame cannot start one (reason says why)
@@ -53,11 +60,13 @@ enum class TrackingMethod {
   kReferenceKeyframe,  ///< fallback 1: vocabulary matches with the reference keyframe
   kWideWindow,         ///< fallback 2: the prediction searched in a wider window
   kRelocalisation,     ///< place recognition after a loss
+  kReanchor,           ///< a new keyframe from the frame's depth at the last tracked pose, after a long loss
 };
-constexpr int kTrackingMethodCount = 6;
+constexpr int kTrackingMethodCount = 7;
 const char* toString(TrackingMethod method);
 inline bool isTracked(TrackingStatus s) {
-  return s == TrackingStatus::kInitialized || s == TrackingStatus::kOk || s == TrackingStatus::kRelocalized;
+  return s == TrackingStatus::kInitialized || s == TrackingStatus::kOk || s == TrackingStatus::kRelocalized ||
+         s == TrackingStatus::kReanchored;
 }
 
 struct TrackerOptions {
@@ -94,6 +103,10 @@ struct TrackerOptions {
   int relocalisation_min_inliers = 40;  ///< pose inliers (points + lines) that accept a relocalisation
   int relocalisation_recent_keyframes = 8;  ///< without a vocabulary: the recent keyframes relocalisation tries
   PlaceQueryOptions relocalisation;  ///< with a vocabulary: the keyframes relocalisation tries, over the whole map
+  /// Lost this long (s since the last tracked frame) with every relocalisation failing:
+  /// track on from a new keyframe at the last tracked pose (0: stay lost until relocalised).
+  /// Never in localisation, nor before a loaded map was first relocalised in.
+  double reanchor_after_s = 1.0;
   /// Track against the map without changing it (a loaded map): no keyframes, no landmark
   /// visible/found counts; relocalisation searches every keyframe.
   bool localization_only = false;
@@ -150,6 +163,7 @@ class Tracker {
   }
   int lostEvents() const { return lost_events_; }
   int relocalisations() const { return relocalisations_; }
+  int reanchors() const { return reanchors_; }
   /// After a loop correction moved the keyframes (T_new_old per keyframe id): the last pose
   /// follows its reference keyframe; the motion model (a relative motion) is kept.
   void applyMapCorrection(const std::map<Id, SE3>& T_new_old) {
@@ -181,6 +195,13 @@ class Tracker {
     std::string reason;
   };
   TrackingResult initialise(TimeNs t_ns, const FrameFeatures& f);
+  /// Lost for reanchor_after_s, relocalisation failed again, and the frame can start a map.
+  bool shouldReanchor(TimeNs t_ns, const FrameFeatures& f) const;
+  TrackingResult reanchor(TimeNs t_ns, const FrameFeatures& f);
+  /// A keyframe made from the frame's depth alone at `T_w_c` (initialisation, re-anchoring).
+  TrackingResult startFromDepth(TimeNs t_ns, const FrameFeatures& f, const SE3& T_w_c);
+  /// Keypoints whose depth can make a map point.
+  int pointsWithDepth(const FrameFeatures& f) const;
   /// track() once the map exists: motion model or relocalisation, then the keyframe decision.
   TrackingResult trackInitialised(TimeNs t_ns, const FrameFeatures& f);
   /// The motion model, then the fallbacks, `dt_s` after the last tracked frame; sets
@@ -239,7 +260,7 @@ class Tracker {
   Id reference_kf_ = kNoId;
   int frames_since_kf_ = 0;
   int reference_kf_landmarks_ = 0;
-  int lost_events_ = 0, relocalisations_ = 0;
+  int lost_events_ = 0, relocalisations_ = 0, reanchors_ = 0;
   bool search_all_keyframes_ = false;  // relocalise against every keyframe (loaded map, not tracked yet)
   StageTimes times_;  // the current frame's stage times (searchLocalMap and optimise add to them)
   Id covisible_of_ = kNoId;  // the keyframe covisible_ was computed for

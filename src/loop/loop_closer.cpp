@@ -376,11 +376,6 @@ std::optional<LoopCorrection> LoopCloser::verifyAndClose(const LoopQuery& query,
   return std::nullopt;
 }
 
-namespace {
-
-
-}  // namespace
-
 std::unique_lock<std::mutex> LoopCloser::lockForCorrection() {
   return guard_ ? std::unique_lock<std::mutex>(*guard_) : std::unique_lock<std::mutex>();
 }
@@ -401,15 +396,24 @@ bool LoopCloser::buildPoseGraph(const LoopCandidate& c, PoseGraphSnapshot* g) co
   const Eigen::Matrix<double, 6, 6> info =
       PoseGraphProblem::information(options_.edge_sigma_trans_m, options_.edge_sigma_rot_deg * M_PI / 180.0);
   auto relative = [&](int i, int j) { return problem.vertices[i].T_w_c.inverse() * problem.vertices[j].T_w_c; };
+  // Consecutive keyframes that share no landmark were never measured against each other
+  // (the tracker re-anchored after a long loss, tracker.h): their edge only keeps the
+  // guess, so it is weak and a loop moves the whole jump there.
+  const Eigen::Matrix<double, 6, 6> guess_info = info * 1e-6;
   std::set<std::pair<int, int>> linked;
+  std::vector<std::vector<std::pair<Id, int>>> covisible(g->ids.size());
+  for (size_t i = 0; i < g->ids.size(); ++i) covisible[i] = map_->covisible(g->ids[i], 1);
   for (size_t i = 1; i < g->ids.size(); ++i) {
-    problem.edges.push_back({static_cast<int>(i - 1), static_cast<int>(i), relative(i - 1, i), info});
+    const Id previous = g->ids[i - 1];
+    const bool measured = std::any_of(covisible[i].begin(), covisible[i].end(),
+                                      [&](const std::pair<Id, int>& o) { return o.first == previous; });
+    problem.edges.push_back({static_cast<int>(i - 1), static_cast<int>(i), relative(i - 1, i), measured ? info : guess_info});
     linked.insert({static_cast<int>(i - 1), static_cast<int>(i)});
   }
-  for (Id id : g->ids) {
-    for (const auto& [other, shared] : map_->covisible(id, options_.covisibility_edge_min_shared)) {
-      const int i = index[id], j = index.at(other);
-      if (i >= j || linked.count({i, j})) continue;
+  for (size_t k = 0; k < g->ids.size(); ++k) {
+    for (const auto& [other, shared] : covisible[k]) {
+      const int i = static_cast<int>(k), j = index.at(other);
+      if (shared < options_.covisibility_edge_min_shared || i >= j || linked.count({i, j})) continue;
       problem.edges.push_back({i, j, relative(i, j), info});
       linked.insert({i, j});
     }

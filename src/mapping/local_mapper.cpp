@@ -125,6 +125,10 @@ void LocalMapper::localBundleAdjustment(Id keyframe) {
         problem.line_obs.push_back({k, static_cast<int>(i), s.p, s.q, s.octave});
       }
     }
+    // Nothing holds a window whose keyframes share no landmark with the rest of the map
+    // (the first ones after the tracker re-anchored, tracker.h): its oldest keyframe does.
+    if (std::none_of(problem.keyframes.begin(), problem.keyframes.end(), [](const auto& k) { return k.fixed; }))
+      problem.keyframes[std::min_element(kf_ids.begin(), kf_ids.end()) - kf_ids.begin()].fixed = true;
   }
   if (problem.point_obs.empty()) return;
   const BundleResult r = adjuster_.adjust(camera_, problem);

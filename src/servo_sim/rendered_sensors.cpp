@@ -9,10 +9,6 @@ namespace plslam {
 
 namespace {
 
-bool tracked(TrackingStatus s) {
-  return s == TrackingStatus::kInitialized || s == TrackingStatus::kOk || s == TrackingStatus::kRelocalized;
-}
-
 // The frames' stamps: an arbitrary epoch plus the simulated time.
 TimeNs stamp(int step, double dt) { return 1'600'000'000LL * kNsPerSecond + secondsToNs(step * dt); }
 
@@ -51,7 +47,7 @@ std::optional<vpHomogeneousMatrix> SlamPoses::measure(int step, const vpHomogene
   frame.index = step;
   const TrackingResult r = slam_->feed(frame);
   ++frames_;
-  if (!tracked(r.status)) {
+  if (!isTracked(r.status)) {
     ++lost_;
     return std::nullopt;
   }

@@ -76,6 +76,7 @@ Json statsJson(const RunStats& s, const Json& extra) {
             {"keyframes", s.keyframes},
             {"lost_events", s.lost_events},
             {"relocalisations", s.relocalisations},
+            {"reanchors", s.reanchors},
             {"refined_frames", s.refined_frames},
             {"map_points", s.map_points},
             {"map_lines", s.map_lines},

@@ -308,8 +308,8 @@ Trajectory System::keyframeTrajectory() const {
 }
 
 namespace {
-/// Each loss that ended in a relocalisation: frames from the first lost frame to the
-/// relocalised one, and the time between their stamps. Losses still open at the end count
+/// Each loss that ended (relocalised or re-anchored): frames from the first lost frame to the
+/// tracked one, and the time between their stamps. Losses still open at the end count
 /// in lost_events only.
 void addRecoveries(const std::vector<FrameRecord>& records, RunStats* s) {
   const FrameRecord* first_lost = nullptr;
@@ -348,6 +348,7 @@ RunStats System::stats() const {
   addRecoveries(records_, &s);
   s.lost_events = pipeline_->tracker.lostEvents();
   s.relocalisations = pipeline_->tracker.relocalisations();
+  s.reanchors = pipeline_->tracker.reanchors();
   {
     std::lock_guard<std::mutex> lock(map_.mutex());
     s.keyframes = static_cast<int>(map_.keyframes().size());

@@ -94,6 +94,7 @@ struct FrameRecord {
 
 struct RunStats {
   int frames = 0, tracked = 0, keyframes = 0, lost_events = 0, relocalisations = 0;
+  int reanchors = 0;  ///< losses ended by a new keyframe at the last pose (TrackerOptions::reanchor_after_s)
   int map_points = 0, map_lines = 0;
   double line_rate_fitting = 0, line_rate_endpoints = 0;
   int line_rate_keyframes = 0;

@@ -53,6 +53,8 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
           "keyframes of the whole map relocalisation tries, most similar first");
   t->bind("tracker.relocalisation_min_relative_score", &tr.relocalisation.min_relative_score,
           "and only those scoring at least this fraction of the most similar");
+  t->bind("tracker.reanchor_after_s", &tr.reanchor_after_s,
+          "lost this long (s) and not relocalised: track on from a new keyframe at the last pose (0: never)");
   t->bind("tracker.pose_rounds", &tr.optimizer.rounds, "pose optimisation outlier rounds");
   t->bind("tracker.pose_iterations", &tr.optimizer.iterations_per_round, "solver iterations per round");
   t->bind("tracker.use_depth", &tr.optimizer.model.use_depth, "depth residuals in pose optimisation");

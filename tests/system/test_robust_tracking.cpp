@@ -4,6 +4,8 @@
 // out of place to make the motion model wrong by a known amount.
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include "core/error.h"
 #include "eval/trajectory_eval.h"
 #include "synth/renderer.h"
@@ -44,7 +46,9 @@ SystemOptions withoutFallbacks() {
 struct Fed {
   std::vector<TrackingResult> results;
   std::vector<int> scene_index;  ///< the scene frame each result is of
+  std::vector<TimeNs> stamps;    ///< the stamp each frame was fed with
   RunStats stats;
+  Trajectory trajectory;  ///< the System's final trajectory (after loop corrections)
 };
 
 constexpr int kBlank = -1;  ///< in a feeding order: a featureless grey frame (a covered lens)
@@ -67,9 +71,11 @@ Fed feed(const Sequence& seq, const std::vector<int>& order, const SystemOptions
     last_t = f.t_ns;
     out.results.push_back(slam.feed(f));
     out.scene_index.push_back(order[k]);
+    out.stamps.push_back(f.t_ns);
   }
   slam.finish();
   out.stats = slam.stats();
+  out.trajectory = slam.trajectory();
   return out;
 }
 
@@ -149,6 +155,101 @@ TEST(RobustTracking, ALostCameraIsRelocalisedByPlaceRecognitionFarFromTheRecentK
   EXPECT_EQ(fed.stats.methods[static_cast<int>(TrackingMethod::kRelocalisation)], 1);
 }
 
+namespace {
+
+/// A third of a lap round the room, a covered lens for `blanks` frames, then a stretch of the
+/// lap the map never saw (the far side of the room): relocalisation has nothing to find.
+/// Fed one frame period apart, so the loss lasts as many periods as frames are missing.
+struct UnseenAfterLoss {
+  Sequence seq = render(synth::SceneKind::kLoop, 300, 320, 240);
+  std::vector<int> order;
+  size_t last_tracked = 0, back = 0;
+  explicit UnseenAfterLoss(int blanks, int resume_at = 180, int resume_to = 240) {
+    order = range(0, 91);
+    last_tracked = order.size() - 1;
+    for (int b = 0; b < blanks; ++b) order.push_back(kBlank);
+    back = order.size();
+    for (int i : range(resume_at, resume_to)) order.push_back(i);
+  }
+};
+
+SystemOptions reanchorAfter(double seconds) {
+  SystemOptions o = sequentialNoLoop();
+  o.tracker.reanchor_after_s = seconds;
+  return o;
+}
+
+}  // namespace
+
+TEST(RobustTracking, ACameraThatCannotBeRelocalisedGoesOnFromItsLastPoseOnceTheSetTimeHasPassed) {
+  const UnseenAfterLoss run(40);  // 40 frames: 1.37 s from the last tracked frame to the next textured one
+  const Fed never = feed(run.seq, run.order, reanchorAfter(0), true);
+  for (size_t k = run.back; k < run.order.size(); ++k)
+    ASSERT_FALSE(isTracked(never.results[k].status)) << "frame " << k << ": relocalised, so this test proves nothing";
+
+  const Fed fed = feed(run.seq, run.order, reanchorAfter(1.0), true);
+  const TrackingResult& first = fed.results[run.back];
+  ASSERT_EQ(first.status, TrackingStatus::kReanchored) << first.reason;
+  EXPECT_EQ(first.method, TrackingMethod::kReanchor);
+  EXPECT_TRUE(first.new_keyframe);
+  const SE3 jump = fed.results[run.last_tracked].T_w_c.inverse() * first.T_w_c;
+  EXPECT_LT(jump.translation().norm() + jump.angle(), 1e-9) << "it starts from the last tracked pose";
+  for (size_t k = run.back; k < run.order.size(); ++k) EXPECT_TRUE(isTracked(fed.results[k].status)) << "frame " << k;
+  // The motion after re-anchoring, against a map started afresh from the same frame (that
+  // far side of the room at 320x240 drifts about 6 cm over these 2 s whichever way it starts).
+  const std::vector<int> unseen_part(run.order.begin() + run.back, run.order.end());
+  const Fed fresh = feed(run.seq, unseen_part, reanchorAfter(1.0), true);
+  EXPECT_LT(relativeError(run.seq, fed, run.back, run.order.size() - 1),
+            relativeError(run.seq, fresh, 0, unseen_part.size() - 1) + 0.01);
+  EXPECT_EQ(fed.stats.reanchors, 1);
+  EXPECT_EQ(fed.stats.lost_events, 1);
+  EXPECT_EQ(fed.stats.relocalisations, 0);
+  EXPECT_EQ(fed.stats.methods[static_cast<int>(TrackingMethod::kReanchor)], 1);
+  ASSERT_EQ(fed.stats.recovery_frames.size(), 1u);
+  EXPECT_EQ(fed.stats.recovery_frames[0], 40);
+}
+
+TEST(RobustTracking, ReanchoringWaitsForTheSetTimeSinceTheLastTrackedFrame) {
+  // Lost for 0.4 s of blanks, then unseen views: with 1 s, re-anchored on the first textured
+  // frame at least 1 s after the last tracked one, not before.
+  const UnseenAfterLoss run(12);
+  const Fed fed = feed(run.seq, run.order, reanchorAfter(1.0), true);
+  size_t reanchored = 0;
+  for (size_t k = run.back; k < run.order.size() && !reanchored; ++k)
+    if (fed.results[k].status == TrackingStatus::kReanchored) reanchored = k;
+  ASSERT_GT(reanchored, run.back);
+  const double period_s = 33'333'333 / 1e9;
+  EXPECT_GE((reanchored - run.last_tracked) * period_s, 1.0);
+  EXPECT_LT((reanchored - 1 - run.last_tracked) * period_s, 1.0);
+  for (size_t k = run.back; k < reanchored; ++k) EXPECT_FALSE(isTracked(fed.results[k].status)) << "frame " << k;
+}
+
+TEST(RobustTracking, ALoopClosureJoinsTheReanchoredPartToTheMapBeforeTheLoss) {
+  // The rest of the first lap after the re-anchor, then the start of a second lap: the
+  // loop closes onto the keyframes from before the loss, and the whole jump is taken out.
+  UnseenAfterLoss run(40, 180, 300);
+  for (int i : range(0, 90)) run.order.push_back(i);
+  auto ateOfFinalTrajectory = [&](const Fed& fed) {
+    std::map<TimeNs, int> scene_of;
+    for (size_t k = 0; k < fed.stamps.size(); ++k) scene_of[fed.stamps[k]] = fed.scene_index[k];
+    Trajectory truth;
+    for (const auto& pose : fed.trajectory) truth.push_back({pose.t_ns, run.seq.scene.cameraPose(scene_of.at(pose.t_ns))});
+    return evaluate(truth, fed.trajectory).ate.stats.rmse;
+  };
+  const Fed without_loop = feed(run.seq, run.order, reanchorAfter(1.0), true);
+  SystemOptions with_loop = reanchorAfter(1.0);
+  with_loop.use_loop = true;
+  const Fed fed = feed(run.seq, run.order, with_loop, true);
+  const double jumped = ateOfFinalTrajectory(without_loop), joined = ateOfFinalTrajectory(fed);
+  std::printf("re-anchored after a 1.37 s loss: ATE %.4f m without loop closure, %.4f m with (%d loop(s))\n", jumped,
+              joined, fed.stats.loop.accepted);
+  ASSERT_EQ(fed.stats.reanchors, 1);
+  ASSERT_GT(jumped, 0.1) << "the re-anchor must leave a jump, or this test proves nothing";
+  ASSERT_GE(fed.stats.loop.accepted, 1);
+  EXPECT_EQ(fed.trajectory.size(), without_loop.trajectory.size());
+  EXPECT_LT(joined, 0.03);
+}
+
 TEST(RobustTracking, FallbackAndRelocalisationOptionsOutOfRangeAreRefusedByName) {
   const PinholeCamera camera = synth::syntheticCamera(320, 240);
   auto refused = [&](auto change, const std::string& key) {
@@ -166,6 +267,7 @@ TEST(RobustTracking, FallbackAndRelocalisationOptionsOutOfRangeAreRefusedByName)
   refused([](TrackerOptions* t) { t->relocalisation.min_relative_score = 1.5; }, "tracker.relocalisation_min_relative_score");
   refused([](TrackerOptions* t) { t->wide_fallback_factor = -1; }, "tracker.wide_fallback_factor");
   refused([](TrackerOptions* t) { t->near_plane_m = 0; }, "tracker.near_plane_m");
+  refused([](TrackerOptions* t) { t->reanchor_after_s = -1; }, "tracker.reanchor_after_s");
   EXPECT_NO_THROW(System(camera, sequentialNoLoop()));
 }
 
