@@ -10,9 +10,8 @@
 #include "grabber_source.h"
 #include "core/error.h"
 #include "core/log.h"
-#include "dense_cli.h"
 #include "live/live_loop.h"
-#include "session/live_maps.h"
+#include "mapping_session.h"
 #include "run_session.h"
 #include "system/run_outputs.h"
 #include "system/system.h"
@@ -76,13 +75,9 @@ int runLiveCommand(int argc, char** argv) {
   if (config.map && (camera.width != config.map->camera.width || camera.height != config.map->camera.height))
     throw ConfigError(str("plslam live: the camera's images are ", camera.width, "x", camera.height,
                           ", the map was built from ", config.map->camera.width, "x", config.map->camera.height));
-  System slam(camera, options, config.map ? std::move(config.map->map) : Map());
-  // A saved map keeps its own frame, so that its sessions share one map frame.
-  std::optional<MapFrame> frame = config.map ? config.map->frame : std::nullopt;
-  const bool dense = !args.has("no-dense") && options.dense.enabled;
-  std::unique_ptr<LiveMaps> maps = dense ? makeLiveMaps(&slam, out, frame ? &*frame : nullptr) : nullptr;
-  slam.start();
-  if (maps) maps->start();
+  MappingSession session(camera, &config, out, !args.has("no-dense") && options.dense.enabled);
+  System& slam = session.slam();
+  session.start();
   const bool progress = !args.has("quiet");
   LiveStats stats;
   {
@@ -99,16 +94,8 @@ int runLiveCommand(int argc, char** argv) {
     line.done();
   }
   grabber->close();
-  if (maps) maps->stop();
-  slam.finish();
-  // The final products in the saved map's frame, else the one the maps while running settled
-  // on (as plslam run).
-  if (maps && !frame) frame = maps->settledFrame();
-  Json stats_extra = liveStatsJson(stats);
-  if (maps) stats_extra.update(liveMapsStatsJson(maps->stats()));
-  if (dense && !slam.map().keyframes().empty())
-    writeDenseMaps(slam.map(), camera, options.dense, {}, out, progress, frame ? &*frame : nullptr, &frame);
-  writeRunOutputs(out, slam, config.config_yaml, stats_extra, args.str("save-map"), frame ? &*frame : nullptr);
+  session.stop();
+  session.writeOutputs(liveStatsJson(stats), args.str("save-map"), progress);
 
   const RunStats st = slam.stats();
   const Summary tms = summarize(st.tracking_ms);

@@ -12,11 +12,10 @@
 #include "commands.h"
 #include "core/error.h"
 #include "core/log.h"
-#include "dense_cli.h"
 #include "frame_source_open.h"
 #include "io/dataset.h"
+#include "mapping_session.h"
 #include "run_session.h"
-#include "session/live_maps.h"
 #include "session/run_config.h"
 #include "system/run_outputs.h"
 #include "system/system.h"
@@ -134,13 +133,9 @@ int runRun(int argc, char** argv) {
       throw IoError(out + ": cannot create the output folder" + (ec ? " (" + ec.message() + ")" : std::string()));
   }
 
-  System slam(camera, options, config.map ? std::move(config.map->map) : Map());
-  // Maps while running: written into the output folder as the run goes (session/live_maps.h).
-  std::optional<MapFrame> frame = config.map ? config.map->frame : std::nullopt;
-  const bool dense = !args.has("no-dense") && options.dense.enabled;
-  std::unique_ptr<LiveMaps> maps = dense ? makeLiveMaps(&slam, out, frame ? &*frame : nullptr) : nullptr;
-  slam.start();
-  if (maps) maps->start();
+  MappingSession session(camera, &config, out, !args.has("no-dense") && options.dense.enabled);
+  System& slam = session.slam();
+  session.start();
   const bool progress = !args.has("quiet");
   FeedResult fed;
   {
@@ -154,8 +149,7 @@ int runRun(int argc, char** argv) {
     line.done();
   }
   if (fed.interrupted) std::fprintf(stderr, "[run] interrupted: finishing and writing what there is\n");
-  if (maps) maps->stop();
-  slam.finish();
+  session.stop();
   const std::string skipped = dataset.skippedText();
   // A run that tracked nothing has no result: say why and leave the output folder as it was.
   if (fed.tracked == 0) {
@@ -172,16 +166,7 @@ int runRun(int argc, char** argv) {
 
   const RunEvaluation evaluation = evaluateRun(dataset, slam.trajectory());
   const std::string ate_line = evaluation.text();
-  // The dense products first: the floor of their cloud gives the map frame of every output
-  // (a loaded map keeps its own, so that its sessions share one map frame; the maps while
-  // running keep the one they settled on, so that the final products line up with them).
-  if (maps && !frame) frame = maps->settledFrame();
-  Json stats_extra = runStatsExtra(dataset, evaluation);
-  if (maps) stats_extra.update(liveMapsStatsJson(maps->stats()));
-  const bool dense_done = !dense || writeDenseMaps(slam.map(), camera, options.dense, {}, out, progress,
-                                                   frame ? &*frame : nullptr, &frame);
-  writeRunOutputs(out, slam, config.config_yaml, stats_extra,
-                  args.has("save-map") ? args.str("save-map") : std::string(), frame ? &*frame : nullptr);
+  const bool dense_done = session.writeOutputs(runStatsExtra(dataset, evaluation), args.str("save-map"), progress);
 
   printSummary(slam.stats(), dataset, ate_line, out);
   if (!dense_done) return 130;
