@@ -93,7 +93,9 @@ TEST(DynamicSystem, GeometryAloneRemovesMostPersonLandmarks) {
   const DynamicRun off = runDynamicScene(false, SegmenterKind::kNone);
   std::printf("landmarks on persons: %d geometry only, %d without rejection\n", geo.landmarks_on_persons,
               off.landmarks_on_persons);
-  EXPECT_LT(geo.landmarks_on_persons, off.landmarks_on_persons);
+  ASSERT_GT(off.landmarks_on_persons, 100) << "the scene must put persons in view for this test to mean anything";
+  // "Most": at least four in five of them kept out (measured: 93 of 806 left, 88 % out).
+  EXPECT_LE(geo.landmarks_on_persons, 0.2 * off.landmarks_on_persons);
   EXPECT_EQ(geo.stats.tracked, geo.stats.frames);
 }
 
