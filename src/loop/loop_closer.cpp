@@ -169,9 +169,30 @@ FeatureGeometry landmarksInCamera(const Map& map, const KeyFrame& kf) {
 LoopCloser::LoopCloser(Map* map, PinholeCamera camera, LoopOptions options)
     : LoopCloser(map, std::move(camera), options, loadOrThrow(options.vocabulary)) {}
 
+void LoopOptions::validate() const {
+  auto require = [](bool ok, const char* key, const std::string& range, double value) {
+    if (!ok) throw ConfigError(str("loop.", key, " must be ", range, " (got ", value, ")"));
+  };
+  require(point_weight >= 0 && line_weight >= 0 && point_weight + line_weight > 0, "point_weight and line_weight",
+          ">= 0 with a positive sum", point_weight + line_weight);
+  require(min_normalised_score >= 0, "min_normalised_score", ">= 0", min_normalised_score);
+  require(min_score >= 0, "min_score", ">= 0", min_score);
+  require(exclude_recent >= 0, "exclude_recent", ">= 0", exclude_recent);
+  require(max_candidates >= 1, "max_candidates", ">= 1", max_candidates);
+  require(consistency >= 1, "consistency", ">= 1 (1: none)", consistency);
+  require(min_matches >= 3, "min_matches", ">= 3 (a rigid fit needs three)", min_matches);
+  require(min_inliers >= 3, "min_inliers", ">= 3", min_inliers);
+  require(min_inlier_ratio >= 0 && min_inlier_ratio <= 1, "min_inlier_ratio", "in [0, 1]", min_inlier_ratio);
+  require(ransac.threshold_m > 0, "ransac_threshold_m", "> 0", ransac.threshold_m);
+  require(edge_sigma_trans_m > 0, "edge_sigma_trans_m", "> 0", edge_sigma_trans_m);
+  require(edge_sigma_rot_deg > 0, "edge_sigma_rot_deg", "> 0", edge_sigma_rot_deg);
+  require(min_keyframes_between_loops >= 0, "min_keyframes_between_loops", ">= 0", min_keyframes_between_loops);
+}
+
 LoopCloser::LoopCloser(Map* map, PinholeCamera camera, LoopOptions options,
                        std::shared_ptr<const VocabularySet> vocabulary)
     : map_(map), camera_(std::move(camera)), options_(std::move(options)), vocabulary_(std::move(vocabulary)) {
+  options_.validate();
   if (!vocabulary_ || vocabulary_->orb.empty()) throw ConfigError("loop closure: empty vocabulary");
 }
 

@@ -94,6 +94,10 @@ struct LoopOptions {
   bool global_ba = true;
   BundleAdjusterOptions ba = globalBundleOptions();  ///< its solver (first keyframe fixed)
 
+  /// Throws ConfigError naming the `loop.` key of the first value out of range (the loop
+  /// closer checks on construction).
+  void validate() const;
+
   static BundleAdjusterOptions globalBundleOptions() {
     BundleAdjusterOptions o;
     o.model.depth_sigma_coeff = 0.025;  // as tracking and local mapping

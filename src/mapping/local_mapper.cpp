@@ -4,6 +4,7 @@
 #include <map>
 #include <set>
 
+#include "core/error.h"
 #include "core/log.h"
 
 namespace plslam {
@@ -12,8 +13,32 @@ namespace {
 const Logger kLog("mapping");
 }
 
+void LocalMapperOptions::validate() const {
+  auto require = [](bool ok, const char* key, const std::string& range, double value) {
+    if (!ok) throw ConfigError(str("mapper.", key, " must be ", range, " (got ", value, ")"));
+  };
+  require(ba_keyframes >= 1, "ba_keyframes", ">= 1", ba_keyframes);
+  require(ba_fixed_keyframes >= 0, "ba_fixed_keyframes", ">= 0", ba_fixed_keyframes);
+  require(min_covisible_points >= 1, "min_covisible_points", ">= 1", min_covisible_points);
+  require(cull_found_ratio >= 0 && cull_found_ratio <= 1, "cull_found_ratio", "in [0, 1]", cull_found_ratio);
+  require(cull_min_visible >= 1, "cull_min_visible", ">= 1", cull_min_visible);
+  require(cull_single_after >= 1, "cull_single_after", ">= 1", cull_single_after);
+  require(ba.max_iterations >= 1, "ba_iterations", ">= 1", ba.max_iterations);
+  require(ba.refine_iterations >= 0, "ba_refine_iterations", ">= 0", ba.refine_iterations);
+  require(ba.max_time_s >= 0, "ba_max_time_s", ">= 0 (0: no budget)", ba.max_time_s);
+  require(ba.model.depth_sigma_coeff > 0, "depth_sigma_coeff", "> 0", ba.model.depth_sigma_coeff);
+}
+
+namespace {
+// Validated before anything is built from them, so that errors name the `mapper.` key.
+const LocalMapperOptions& validated(const LocalMapperOptions& o) {
+  o.validate();
+  return o;
+}
+}  // namespace
+
 LocalMapper::LocalMapper(Map* map, PinholeCamera camera, LocalMapperOptions options)
-    : map_(map), camera_(std::move(camera)), options_(options), adjuster_(options.ba) {}
+    : map_(map), camera_(std::move(camera)), options_(validated(options)), adjuster_(options_.ba) {}
 
 void LocalMapper::processKeyframe(Id keyframe, const cv::Mat& depth_m) {
   if (options_.use_lines) createLines(keyframe, depth_m);

@@ -31,6 +31,10 @@ struct LocalMapperOptions {
   LineFitOptions line_fit;         ///< line fitting (and endpoint method) parameters
   BundleAdjusterOptions ba = mappingBundleOptions();  ///< local bundle adjustment
 
+  /// Throws ConfigError naming the `mapper.` key of the first value out of range (the mapper
+  /// checks on construction).
+  void validate() const;
+
   /// The same depth weighting as tracking (see TrackerOptions::trackingPoseOptions).
   static BundleAdjusterOptions mappingBundleOptions() {
     BundleAdjusterOptions o;

@@ -86,6 +86,32 @@ TEST(SystemSynthetic, ANegativeRefinementDelayIsAConfigError) {
   EXPECT_NO_THROW(System(camera, o));
 }
 
+TEST(SystemSynthetic, MapperAndLoopOptionsOutOfRangeAreRefusedByTheirKeys) {
+  const PinholeCamera camera = synth::syntheticCamera(320, 240);
+  auto refused = [&](auto change, const std::string& key) {
+    SystemOptions o = sequential();
+    o.use_loop = true;
+    change(&o);
+    try {
+      System slam(camera, o);
+      ADD_FAILURE() << key << " accepted";
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  };
+  refused([](SystemOptions* o) { o->mapper.ba_keyframes = 0; }, "mapper.ba_keyframes");
+  refused([](SystemOptions* o) { o->mapper.cull_found_ratio = 1.5; }, "mapper.cull_found_ratio");
+  refused([](SystemOptions* o) { o->mapper.cull_single_after = 0; }, "mapper.cull_single_after");
+  refused([](SystemOptions* o) { o->mapper.ba.max_time_s = -1; }, "mapper.ba_max_time_s");
+  refused([](SystemOptions* o) { o->loop.consistency = 0; }, "loop.consistency");
+  refused([](SystemOptions* o) { o->loop.min_inlier_ratio = 2; }, "loop.min_inlier_ratio");
+  refused([](SystemOptions* o) { o->loop.edge_sigma_rot_deg = 0; }, "loop.edge_sigma_rot_deg");
+  refused([](SystemOptions* o) { o->loop.point_weight = o->loop.line_weight = 0; }, "loop.point_weight");
+  SystemOptions fine = sequential();
+  fine.use_loop = true;
+  EXPECT_NO_THROW(System(camera, fine));
+}
+
 TEST(SystemSynthetic, ThreadedModeTracksAndFinishes) {
   const std::string dir = test::syntheticSequence(synth::SceneKind::kStatic, 120);
   const PinholeCamera camera = loadCameraFile(dir + "/camera.xml");
