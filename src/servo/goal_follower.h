@@ -1,0 +1,64 @@
+// The pose servo on a live SLAM pose, for a front end that drives a robot (the ROS node's
+// cmd_vel today): it holds at most one goal on the floor of the map frame, turns each
+// measured base pose into a velocity command, and says when the robot must stop.
+//
+// Safety rules, in one place so that every front end follows them:
+//  - no goal, no command: nothing is sent until a goal is set (off by default);
+//  - a frame without a pose (tracking lost), the goal reached, a cancel, a reset of the
+//    map and the front end's shutdown each give one zero command and drop the goal. A lost
+//    goal is not resumed when tracking returns: the robot waits for a new goal, since the
+//    map the goal was given in may have been replaced meanwhile;
+//  - commands are within the base's limits (PoseServoOptions::limits, TurtleBot3 Burger).
+//
+// The map frame is REP-105's: z up along the floor normal, so the base pose T_map_base is
+// the servo's plane frame pose pMb directly (servo/unicycle.h).
+//
+// Thread safety: none; the front end serialises the calls.
+#pragma once
+
+#include <memory>
+#include <optional>
+
+#include "core/se3.h"
+#include "servo/pose_servo.h"
+
+namespace plslam {
+
+/// Why the follower stopped the robot.
+enum class FollowStop { kNone, kReached, kLost, kCancelled };
+const char* toString(FollowStop stop);
+
+/// What the front end sends for one frame.
+struct FollowCommand {
+  VelocityCommand command;             ///< zero when stop != kNone
+  FollowStop stop = FollowStop::kNone; ///< set on the command that ends the goal
+  ServoStep step;                      ///< the servo's step (stage, errors); default when lost or cancelled
+};
+
+class GoalFollower {
+ public:
+  explicit GoalFollower(const PoseServoOptions& options = {}) : options_(options) {}
+
+  /// Starts driving to `goal` (in the map frame), replacing any goal.
+  void setGoal(const PlanarPose& goal);
+  bool active() const { return servo_ != nullptr; }
+
+  /// The command for a frame: `T_map_base` is the base pose, none when the frame was not
+  /// tracked. None when there is nothing to send (no goal).
+  std::optional<FollowCommand> update(const std::optional<SE3>& T_map_base);
+  /// Drops the goal (cancel, reset, shutdown): the zero command to send, none when there
+  /// was no goal (the robot is not being driven).
+  std::optional<FollowCommand> cancel();
+
+  /// The goal as a planar pose of a map-frame pose: position on the floor, heading of its
+  /// x axis projected on the floor.
+  static PlanarPose planarGoal(const SE3& T_map_goal);
+
+ private:
+  std::optional<FollowCommand> stop(FollowStop why);
+
+  PoseServoOptions options_;
+  std::unique_ptr<PoseServo> servo_;
+};
+
+}  // namespace plslam
