@@ -9,15 +9,20 @@ const char* toString(FollowStop stop) {
     case FollowStop::kNone: return "none";
     case FollowStop::kReached: return "reached";
     case FollowStop::kLost: return "lost";
+    case FollowStop::kNoFrames: return "no frames";
     case FollowStop::kCancelled: return "cancelled";
   }
   return "?";
 }
 
-void GoalFollower::setGoal(const PlanarPose& goal) { servo_ = std::make_unique<PoseServo>(goal, options_); }
+void GoalFollower::setGoal(const PlanarPose& goal, double now_s) {
+  servo_ = std::make_unique<PoseServo>(goal, options_.servo);
+  last_frame_s_ = now_s;
+}
 
-std::optional<FollowCommand> GoalFollower::update(const std::optional<SE3>& T_map_base) {
+std::optional<FollowCommand> GoalFollower::update(const std::optional<SE3>& T_map_base, double now_s) {
   if (!servo_) return std::nullopt;
+  last_frame_s_ = now_s;
   if (!T_map_base) return stop(FollowStop::kLost);
   FollowCommand out;
   out.step = servo_->update(toVisp(*T_map_base));
@@ -30,6 +35,11 @@ std::optional<FollowCommand> GoalFollower::update(const std::optional<SE3>& T_ma
     out.stop = FollowStop::kReached;
   }
   return out;
+}
+
+std::optional<FollowCommand> GoalFollower::checkFrames(double now_s) {
+  if (!servo_ || now_s - last_frame_s_ <= options_.frame_timeout_s) return std::nullopt;
+  return stop(FollowStop::kNoFrames);
 }
 
 std::optional<FollowCommand> GoalFollower::cancel() { return stop(FollowStop::kCancelled); }

@@ -4,8 +4,10 @@
 //
 // Safety rules, in one place so that every front end follows them:
 //  - no goal, no command: nothing is sent until a goal is set (off by default);
-//  - a frame without a pose (tracking lost), the goal reached, a cancel, a reset of the
-//    map and the front end's shutdown each give one zero command and drop the goal. A lost
+//  - a frame without a pose (tracking lost), no frame for frame_timeout_s (the camera or
+//    the SLAM stalled: the last command would go on driving the robot), the goal reached, a
+//    cancel, a reset of the map and the front end's shutdown each give one zero command and
+//    drop the goal. A lost
 //    goal is not resumed when tracking returns: the robot waits for a new goal, since the
 //    map the goal was given in may have been replaced meanwhile;
 //  - commands are within the base's limits (PoseServoOptions::limits, TurtleBot3 Burger).
@@ -25,7 +27,7 @@
 namespace plslam {
 
 /// Why the follower stopped the robot.
-enum class FollowStop { kNone, kReached, kLost, kCancelled };
+enum class FollowStop { kNone, kReached, kLost, kNoFrames, kCancelled };
 const char* toString(FollowStop stop);
 
 /// What the front end sends for one frame.
@@ -35,17 +37,26 @@ struct FollowCommand {
   ServoStep step;                      ///< the servo's step (stage, errors); default when lost or cancelled
 };
 
+struct GoalFollowerOptions {
+  PoseServoOptions servo;       ///< the controller and the base's limits
+  double frame_timeout_s = 1.0; ///< stop when no frame came for this long while driving
+};
+
+/// Times are seconds on any monotonic clock of the caller's.
 class GoalFollower {
  public:
-  explicit GoalFollower(const PoseServoOptions& options = {}) : options_(options) {}
+  explicit GoalFollower(const GoalFollowerOptions& options = {}) : options_(options) {}
 
-  /// Starts driving to `goal` (in the map frame), replacing any goal.
-  void setGoal(const PlanarPose& goal);
+  /// Starts driving to `goal` (in the map frame) at time `now_s`, replacing any goal.
+  void setGoal(const PlanarPose& goal, double now_s);
   bool active() const { return servo_ != nullptr; }
 
-  /// The command for a frame: `T_map_base` is the base pose, none when the frame was not
-  /// tracked. None when there is nothing to send (no goal).
-  std::optional<FollowCommand> update(const std::optional<SE3>& T_map_base);
+  /// The command for a frame processed at `now_s`: `T_map_base` is the base pose, none
+  /// when the frame was not tracked. None when there is nothing to send (no goal).
+  std::optional<FollowCommand> update(const std::optional<SE3>& T_map_base, double now_s);
+  /// To be called periodically: the zero command when driving and no frame came for
+  /// frame_timeout_s (the goal is dropped), else none.
+  std::optional<FollowCommand> checkFrames(double now_s);
   /// Drops the goal (cancel, reset, shutdown): the zero command to send, none when there
   /// was no goal (the robot is not being driven).
   std::optional<FollowCommand> cancel();
@@ -57,8 +68,9 @@ class GoalFollower {
  private:
   std::optional<FollowCommand> stop(FollowStop why);
 
-  PoseServoOptions options_;
+  GoalFollowerOptions options_;
   std::unique_ptr<PoseServo> servo_;
+  double last_frame_s_ = 0;  // the last frame's time, or the goal's before the first frame
 };
 
 }  // namespace plslam

@@ -2,6 +2,7 @@
 
 #include <geometry_msgs/Twist.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 
@@ -14,6 +15,11 @@
 namespace plslam::ros1 {
 
 namespace {
+
+// The follower's clock: monotonic, unlike ROS time (which a bag's clock may drive).
+double steadySeconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
 
 template <typename T>
 T param(const ros::NodeHandle& pnh, const std::string& name, const T& fallback) {
@@ -52,22 +58,24 @@ NodeSettings NodeSettings::fromParameters(const ros::NodeHandle& pnh) {
   s.sparse_period_s = param(pnh, "sparse_period", s.sparse_period_s);
   s.publish_tf = param(pnh, "publish_tf", true);
   s.dense = !param(pnh, "no_dense", false);
-  s.servo.limits.v_max = param(pnh, "max_linear", s.servo.limits.v_max);
-  s.servo.limits.w_max = param(pnh, "max_angular", s.servo.limits.w_max);
-  s.servo.position_tolerance = param(pnh, "goal_tolerance", s.servo.position_tolerance);
-  s.servo.yaw_tolerance_deg = param(pnh, "goal_yaw_tolerance", s.servo.yaw_tolerance_deg);
+  PoseServoOptions& servo = s.follow.servo;
+  servo.limits.v_max = param(pnh, "max_linear", servo.limits.v_max);
+  servo.limits.w_max = param(pnh, "max_angular", servo.limits.w_max);
+  servo.position_tolerance = param(pnh, "goal_tolerance", servo.position_tolerance);
+  servo.yaw_tolerance_deg = param(pnh, "goal_yaw_tolerance", servo.yaw_tolerance_deg);
+  s.follow.frame_timeout_s = param(pnh, "frame_timeout", s.follow.frame_timeout_s);
   s.session.live_maps = s.dense;
   s.session.maps_dir = s.out;
   if (s.session.queue < 1 || s.sync_queue < 1 || s.sparse_period_s <= 0 || s.session.map_frame_keyframes < 1)
     throw ConfigError("plslam_ros: queue, sync_queue and map_frame_keyframes must be >= 1, sparse_period > 0");
-  if (s.servo.limits.v_max <= 0 || s.servo.limits.w_max <= 0 || s.servo.position_tolerance <= 0 ||
-      s.servo.yaw_tolerance_deg <= 0)
-    throw ConfigError("plslam_ros: max_linear, max_angular, goal_tolerance and goal_yaw_tolerance must be > 0");
+  if (servo.limits.v_max <= 0 || servo.limits.w_max <= 0 || servo.position_tolerance <= 0 ||
+      servo.yaw_tolerance_deg <= 0 || s.follow.frame_timeout_s <= 0)
+    throw ConfigError("plslam_ros: max_linear, max_angular, goal_tolerance, goal_yaw_tolerance and frame_timeout must be > 0");
   return s;
 }
 
 RosNode::RosNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeSettings settings)
-    : nh_(nh), pnh_(pnh), settings_(std::move(settings)), tf_listener_(tf_buffer_), follower_(settings_.servo) {
+    : nh_(nh), pnh_(pnh), settings_(std::move(settings)), tf_listener_(tf_buffer_), follower_(settings_.follow) {
   config_ = makeRunConfig(settings_.switches, "plslam_ros: effective configuration");
   camera_pose_pub_ = pnh_.advertise<geometry_msgs::PoseStamped>("camera_pose", 10);
   base_pose_pub_ = pnh_.advertise<geometry_msgs::PoseStamped>("base_pose", 10);
@@ -81,6 +89,7 @@ RosNode::RosNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeSettings settings)
   cmd_vel_pub_ = nh_.advertise<geometry_msgs::Twist>("cmd_vel", 10);
   goal_sub_ = pnh_.subscribe("goal", 1, &RosNode::onGoal, this);
   cancel_sub_ = pnh_.subscribe("cancel", 1, &RosNode::onCancel, this);
+  follower_timer_ = nh_.createWallTimer(ros::WallDuration(0.1), &RosNode::onFollowerTimer, this);
   save_srv_ = pnh_.advertiseService("save_map", &RosNode::onSave, this);
   reset_srv_ = pnh_.advertiseService("reset", &RosNode::onReset, this);
   localize_srv_ = pnh_.advertiseService("localize", &RosNode::onLocalize, this);
@@ -376,7 +385,7 @@ void RosNode::onGoal(const geometry_msgs::PoseStampedConstPtr& goal) {
   const PlanarPose planar = GoalFollower::planarGoal(*T_map_goal);
   std::lock_guard<std::mutex> lock(follower_mutex_);
   if (finishing_) return;
-  follower_.setGoal(planar);
+  follower_.setGoal(planar, steadySeconds());
   ROS_INFO("plslam_ros: goal x %.3f y %.3f yaw %.1f deg in %s: driving on %s", planar.x, planar.y,
            planar.yaw * 180 / M_PI, settings_.map_frame.c_str(), cmd_vel_pub_.getTopic().c_str());
 }
@@ -401,7 +410,13 @@ void RosNode::onCancel(const std_msgs::EmptyConstPtr&) { dropGoal("cancelled"); 
 void RosNode::followGoal(const std::optional<SE3>& T_map_base) {
   std::lock_guard<std::mutex> lock(follower_mutex_);
   if (finishing_) return;  // finish() has sent the last command
-  if (const std::optional<FollowCommand> command = follower_.update(T_map_base)) sendCommand(*command);
+  if (const std::optional<FollowCommand> command = follower_.update(T_map_base, steadySeconds())) sendCommand(*command);
+}
+
+void RosNode::onFollowerTimer(const ros::WallTimerEvent&) {
+  std::lock_guard<std::mutex> lock(follower_mutex_);
+  if (finishing_) return;
+  if (const std::optional<FollowCommand> command = follower_.checkFrames(steadySeconds())) sendCommand(*command);
 }
 
 bool RosNode::dropGoal(const char* why) {
@@ -423,6 +438,9 @@ void RosNode::sendCommand(const FollowCommand& command) {
              command.step.yaw_error * 180 / M_PI);
   else if (command.stop == FollowStop::kLost)
     ROS_WARN("plslam_ros: tracking lost: stopped, the goal is dropped (send it again)");
+  else if (command.stop == FollowStop::kNoFrames)
+    ROS_WARN("plslam_ros: no frame for %.1f s: stopped, the goal is dropped (send it again)",
+             settings_.follow.frame_timeout_s);
 }
 
 bool RosNode::finish() {

@@ -60,7 +60,7 @@ struct NodeSettings {
   double sparse_period_s = 1.0;    ///< period of the sparse map topics
   bool publish_tf = true;
   bool dense = true;               ///< dense products while running (published, written to out) and at shutdown
-  PoseServoOptions servo;          ///< max_linear, max_angular (TurtleBot3 Burger), goal_tolerance, goal_yaw_tolerance
+  GoalFollowerOptions follow;      ///< max_linear, max_angular (TurtleBot3 Burger), goal_tolerance, goal_yaw_tolerance, frame_timeout
 
   static NodeSettings fromParameters(const ros::NodeHandle& pnh);
 };
@@ -104,6 +104,8 @@ class RosNode {
   std::optional<SE3> goalInMap(const geometry_msgs::PoseStamped& goal);
   /// The follower's command for a frame (SLAM thread); base pose none when not tracked.
   void followGoal(const std::optional<SE3>& T_map_base);
+  /// Stops the base when the frames stopped coming while driving.
+  void onFollowerTimer(const ros::WallTimerEvent&);
   /// Drops the goal (cancel, reset, shutdown), sending the zero command when one was driven
   /// (then true).
   bool dropGoal(const char* why);
@@ -124,7 +126,7 @@ class RosNode {
   ros::Publisher cmd_vel_pub_;
   ros::Subscriber goal_sub_, cancel_sub_;
   ros::ServiceServer save_srv_, reset_srv_, localize_srv_;
-  ros::WallTimer sparse_timer_;
+  ros::WallTimer sparse_timer_, follower_timer_;
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
