@@ -663,9 +663,12 @@ TEST(RosNode, GoalDrivesCmdVelTowardsItAndCancelStopsIt) {
     EXPECT_GE(commands.size(), 3u) << leg.name;
     EXPECT_EQ(commands.size(), poses() - poses_before) << leg.name << ": a command per tracked frame";
     expectWithinBurgerLimits(commands);
-    double w_max = 0;
+    double v_min = 1e9, v_max = -1e9, w_min = 1e9, w_max = -1e9;
     for (const geometry_msgs::Twist& c : commands) {
-      w_max = std::max(w_max, std::abs(c.angular.z));
+      v_min = std::min(v_min, c.linear.x);
+      v_max = std::max(v_max, c.linear.x);
+      w_min = std::min(w_min, c.angular.z);
+      w_max = std::max(w_max, c.angular.z);
       if (leg.bearing == 0) {
         EXPECT_GT(c.linear.x, 0) << leg.name;
       } else {
@@ -673,8 +676,8 @@ TEST(RosNode, GoalDrivesCmdVelTowardsItAndCancelStopsIt) {
         EXPECT_GT(c.angular.z * leg.bearing, 0) << leg.name << ": turning towards the goal";
       }
     }
-    std::printf("[figures] node goal %s: %zu commands for %d frames sent, %zu poses; |w| up to %.2f rad/s\n", leg.name,
-                commands.size(), kPart, poses() - poses_before, w_max);
+    std::printf("[figures] node goal %s: %zu commands for %d frames sent, %zu poses; v %.3f to %.3f m/s, w %.4f to %.4f "
+                "rad/s\n", leg.name, commands.size(), kPart, poses() - poses_before, v_min, v_max, w_min, w_max);
   }
   client.cancel();
   for (int i = 0; i < 40 && client.commands().empty(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
