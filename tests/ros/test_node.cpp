@@ -24,6 +24,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <sstream>
 #include <filesystem>
@@ -564,8 +565,9 @@ class GoalClient {
   }
 
   /// Sends a goal `distance` metres from the base pose `base`, `bearing` radians off its
-  /// heading (positive: left), in the map frame; forgets the commands heard so far.
-  void sendGoal(const geometry_msgs::PoseStamped& base, double distance, double bearing) {
+  /// heading (positive: left), in the map frame or, with `in_turned`, in the frame "turned"
+  /// of turnedFrame(); forgets the commands heard so far.
+  void sendGoal(const geometry_msgs::PoseStamped& base, double distance, double bearing, bool in_turned = false) {
     const geometry_msgs::Quaternion& q = base.pose.orientation;
     const double yaw = std::atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z));
     geometry_msgs::PoseStamped goal;
@@ -574,9 +576,23 @@ class GoalClient {
     goal.pose.position.x = base.pose.position.x + distance * std::cos(yaw + bearing);
     goal.pose.position.y = base.pose.position.y + distance * std::sin(yaw + bearing);
     goal.pose.orientation.w = 1;
+    if (in_turned) {
+      goal.header.frame_id = "turned";
+      goal.pose.position.x = 10 - goal.pose.position.x;
+      goal.pose.position.y = -goal.pose.position.y;
+    }
     waitForSubscriber(goal_pub_);
     forget();
     goal_pub_.publish(goal);
+  }
+  /// map -> "turned" on TF: half a turn about z, 10 m along map's x.
+  static geometry_msgs::TransformStamped turnedFrame() {
+    geometry_msgs::TransformStamped t;
+    t.header.frame_id = "map";
+    t.child_frame_id = "turned";
+    t.transform.translation.x = 10;
+    t.transform.rotation.z = 1;
+    return t;
   }
   void cancel() {
     waitForSubscriber(cancel_pub_);
@@ -622,8 +638,8 @@ void expectWithinBurgerLimits(const std::vector<geometry_msgs::Twist>& commands)
 // cmd_vel before a goal; a goal straight ahead gives forward commands; one far to the left
 // or right a turn in place that way (the camera turns by about 10 degrees over the
 // sequence, the servo hands over to the approach within 10 degrees of the bearing: 90
-// degrees off stays a turn); ~cancel gives one zero command and then nothing; so do ~reset
-// and the shutdown.
+// degrees off stays a turn; the one on the right is given in another frame, through TF);
+// ~cancel gives one zero command and then nothing; so do ~reset and the shutdown.
 TEST(RosNode, GoalDrivesCmdVelTowardsItAndCancelStopsIt) {
   constexpr int kStart = 50, kPart = 40;
   test::RosMaster master;
@@ -650,12 +666,15 @@ TEST(RosNode, GoalDrivesCmdVelTowardsItAndCancelStopsIt) {
   ASSERT_EQ(lastBase().header.frame_id, "map") << "the base was tracked";
   EXPECT_TRUE(client.commands().empty()) << "no goal: nothing on cmd_vel";
 
+  tf2_ros::StaticTransformBroadcaster tf_static;
+  tf_static.sendTransform(GoalClient::turnedFrame());
   struct Leg {
     const char* name;
     double bearing;  // of the goal from the base heading, radians
+    bool in_turned;  // the goal in a frame TF links to map, not in map
   };
-  for (const Leg& leg : {Leg{"ahead", 0.0}, Leg{"left", M_PI / 2}, Leg{"right", -M_PI / 2}}) {
-    client.sendGoal(lastBase(), 5.0, leg.bearing);
+  for (const Leg& leg : {Leg{"ahead", 0.0, false}, Leg{"left", M_PI / 2, false}, Leg{"right", -M_PI / 2, true}}) {
+    client.sendGoal(lastBase(), 5.0, leg.bearing, leg.in_turned);
     const size_t poses_before = poses();
     part.skip += part.skip == 0 ? kStart : kPart;
     player.play(folder, kPart, part);
