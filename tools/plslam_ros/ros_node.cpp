@@ -1,7 +1,9 @@
 #include "ros_node.h"
 
-#include <geometry_msgs/PoseStamped.h>
+#include <geometry_msgs/Twist.h>
 
+#include <chrono>
+#include <cmath>
 #include <filesystem>
 
 #include "camera/camera_file.h"
@@ -13,6 +15,11 @@
 namespace plslam::ros1 {
 
 namespace {
+
+// The follower's clock: monotonic, unlike ROS time (which a bag's clock may drive).
+double steadySeconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
 
 template <typename T>
 T param(const ros::NodeHandle& pnh, const std::string& name, const T& fallback) {
@@ -51,15 +58,24 @@ NodeSettings NodeSettings::fromParameters(const ros::NodeHandle& pnh) {
   s.sparse_period_s = param(pnh, "sparse_period", s.sparse_period_s);
   s.publish_tf = param(pnh, "publish_tf", true);
   s.dense = !param(pnh, "no_dense", false);
+  PoseServoOptions& servo = s.follow.servo;
+  servo.limits.v_max = param(pnh, "max_linear", servo.limits.v_max);
+  servo.limits.w_max = param(pnh, "max_angular", servo.limits.w_max);
+  servo.position_tolerance = param(pnh, "goal_tolerance", servo.position_tolerance);
+  servo.yaw_tolerance_deg = param(pnh, "goal_yaw_tolerance", servo.yaw_tolerance_deg);
+  s.follow.frame_timeout_s = param(pnh, "frame_timeout", s.follow.frame_timeout_s);
   s.session.live_maps = s.dense;
   s.session.maps_dir = s.out;
   if (s.session.queue < 1 || s.sync_queue < 1 || s.sparse_period_s <= 0 || s.session.map_frame_keyframes < 1)
     throw ConfigError("plslam_ros: queue, sync_queue and map_frame_keyframes must be >= 1, sparse_period > 0");
+  if (servo.limits.v_max <= 0 || servo.limits.w_max <= 0 || servo.position_tolerance <= 0 ||
+      servo.yaw_tolerance_deg <= 0 || s.follow.frame_timeout_s <= 0)
+    throw ConfigError("plslam_ros: max_linear, max_angular, goal_tolerance, goal_yaw_tolerance and frame_timeout must be > 0");
   return s;
 }
 
 RosNode::RosNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeSettings settings)
-    : nh_(nh), pnh_(pnh), settings_(std::move(settings)), tf_listener_(tf_buffer_) {
+    : nh_(nh), pnh_(pnh), settings_(std::move(settings)), tf_listener_(tf_buffer_), follower_(settings_.follow) {
   config_ = makeRunConfig(settings_.switches, "plslam_ros: effective configuration");
   camera_pose_pub_ = pnh_.advertise<geometry_msgs::PoseStamped>("camera_pose", 10);
   base_pose_pub_ = pnh_.advertise<geometry_msgs::PoseStamped>("base_pose", 10);
@@ -69,6 +85,11 @@ RosNode::RosNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeSettings settings)
   status_pub_ = pnh_.advertise<diagnostic_msgs::DiagnosticArray>("status", 10);
   dense_cloud_pub_ = pnh_.advertise<sensor_msgs::PointCloud2>("dense_cloud", 1, true);
   grid_pub_ = pnh_.advertise<nav_msgs::OccupancyGrid>("grid", 1, true);
+  // cmd_vel in the node's namespace, as the TurtleBot3 bringup listens (remappable).
+  cmd_vel_pub_ = nh_.advertise<geometry_msgs::Twist>("cmd_vel", 10);
+  goal_sub_ = pnh_.subscribe("goal", 1, &RosNode::onGoal, this);
+  cancel_sub_ = pnh_.subscribe("cancel", 1, &RosNode::onCancel, this);
+  follower_timer_ = nh_.createWallTimer(ros::WallDuration(0.1), &RosNode::onFollowerTimer, this);
   save_srv_ = pnh_.advertiseService("save_map", &RosNode::onSave, this);
   reset_srv_ = pnh_.advertiseService("reset", &RosNode::onReset, this);
   localize_srv_ = pnh_.advertiseService("localize", &RosNode::onLocalize, this);
@@ -179,11 +200,15 @@ void RosNode::onFrame(const FrameOutcome& frame) {
   header.frame_id = settings_.map_frame;
   const double latency_ms = (ros::Time::now() - header.stamp).toSec() * 1000.0;
   status_pub_.publish(statusMessage(frame, session()->counts(), latency_ms, header));
-  if (!frame.tracked) return;
+  if (!frame.tracked) {
+    followGoal(std::nullopt);
+    return;
+  }
   // The files' map frame once the session has fixed it (after its first keyframes), the
   // base at the first frame until then (session/robot_frames.h).
   const SE3 T_map_world = frame.map_frame_fixed ? frame.T_map_world : frames_.provisionalMapFrame();
   const SE3 T_map_base = frames_.T_map_base(T_map_world, frame.T_w_c);
+  followGoal(T_map_base);
   if (settings_.publish_tf) publishTransform(T_map_base, header);
   geometry_msgs::PoseStamped pose;
   pose.header = header;
@@ -324,6 +349,7 @@ bool RosNode::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& 
     return true;
   }
   try {
+    dropGoal("reset");  // the goal was given in the map being dropped
     s->reset();
     clearMaps();
     response.success = true;
@@ -353,8 +379,78 @@ bool RosNode::onLocalize(std_srvs::SetBool::Request& request, std_srvs::SetBool:
   return true;
 }
 
+void RosNode::onGoal(const geometry_msgs::PoseStampedConstPtr& goal) {
+  const std::optional<SE3> T_map_goal = goalInMap(*goal);
+  if (!T_map_goal) return;
+  const PlanarPose planar = GoalFollower::planarGoal(*T_map_goal);
+  std::lock_guard<std::mutex> lock(follower_mutex_);
+  if (finishing_) return;
+  follower_.setGoal(planar, steadySeconds());
+  ROS_INFO("plslam_ros: goal x %.3f y %.3f yaw %.1f deg in %s: driving on %s", planar.x, planar.y,
+           planar.yaw * 180 / M_PI, settings_.map_frame.c_str(), cmd_vel_pub_.getTopic().c_str());
+}
+
+std::optional<SE3> RosNode::goalInMap(const geometry_msgs::PoseStamped& goal) {
+  const std::string& frame = goal.header.frame_id;
+  if (frame.empty() || frame == settings_.map_frame) return fromPose(goal.pose);
+  try {
+    // The latest transform: a goal is a place, not a moment (a goal from rviz in odom
+    // means where odom puts it now).
+    const geometry_msgs::TransformStamped t =
+        tf_buffer_.lookupTransform(settings_.map_frame, frame, ros::Time(0), ros::Duration(0.5));
+    return fromTransform(t.transform) * fromPose(goal.pose);
+  } catch (const tf2::TransformException& e) {
+    ROS_WARN("plslam_ros: goal ignored: no %s -> %s on TF: %s", settings_.map_frame.c_str(), frame.c_str(), e.what());
+    return std::nullopt;
+  }
+}
+
+void RosNode::onCancel(const std_msgs::EmptyConstPtr&) { dropGoal("cancelled"); }
+
+void RosNode::followGoal(const std::optional<SE3>& T_map_base) {
+  std::lock_guard<std::mutex> lock(follower_mutex_);
+  if (finishing_) return;  // finish() has sent the last command
+  if (const std::optional<FollowCommand> command = follower_.update(T_map_base, steadySeconds())) sendCommand(*command);
+}
+
+void RosNode::onFollowerTimer(const ros::WallTimerEvent&) {
+  std::lock_guard<std::mutex> lock(follower_mutex_);
+  if (finishing_) return;
+  if (const std::optional<FollowCommand> command = follower_.checkFrames(steadySeconds())) sendCommand(*command);
+}
+
+bool RosNode::dropGoal(const char* why) {
+  std::lock_guard<std::mutex> lock(follower_mutex_);
+  const std::optional<FollowCommand> command = follower_.cancel();
+  if (!command) return false;
+  sendCommand(*command);
+  ROS_INFO("plslam_ros: goal dropped (%s): zero velocity sent", why);
+  return true;
+}
+
+void RosNode::sendCommand(const FollowCommand& command) {
+  geometry_msgs::Twist twist;
+  twist.linear.x = command.command.v;
+  twist.angular.z = command.command.w;
+  cmd_vel_pub_.publish(twist);
+  if (command.stop == FollowStop::kReached)
+    ROS_INFO("plslam_ros: goal reached (%.3f m, %.1f deg off): stopped", command.step.position_error,
+             command.step.yaw_error * 180 / M_PI);
+  else if (command.stop == FollowStop::kLost)
+    ROS_WARN("plslam_ros: tracking lost: stopped, the goal is dropped (send it again)");
+  else if (command.stop == FollowStop::kNoFrames)
+    ROS_WARN("plslam_ros: no frame for %.1f s: stopped, the goal is dropped (send it again)",
+             settings_.follow.frame_timeout_s);
+}
+
 bool RosNode::finish() {
-  finishing_ = true;
+  {
+    std::lock_guard<std::mutex> lock(follower_mutex_);
+    finishing_ = true;
+  }
+  // roscpp writes to the subscribers from its own threads: give the zero command time to
+  // leave before the node shuts down.
+  if (dropGoal("shutdown")) ros::WallDuration(0.2).sleep();
   colour_sub_.unsubscribe();
   depth_sub_.unsubscribe();
   sparse_timer_.stop();

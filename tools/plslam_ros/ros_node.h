@@ -4,13 +4,20 @@
 // conventions (session/robot_frames.h) and the outputs are the session's. A ROS 2 node
 // would be a sibling of this file with the same shape.
 //
+// Velocity out: a goal on ~goal drives the base there with the pose servo on the SLAM base
+// pose (servo/goal_follower.h, which holds the rules: nothing on cmd_vel without a goal, one
+// zero command when the goal is reached, tracking is lost, on ~cancel, ~reset and shutdown).
+//
 // Thread safety: the subscriber, timer and service callbacks run on the spinner's threads;
 // publishing from the SLAM thread goes through roscpp publishers, which are thread-safe.
 // The session pointer is set once (at the camera_info, or with ~calib at the first image
 // pair; startSession under start_mutex_) under session_mutex_. The services (save_map,
-// reset, localize) call the session, which applies them between two frames.
+// reset, localize) call the session, which applies them between two frames. The goal
+// follower is shared by the SLAM thread (a command per frame) and the goal, cancel and reset
+// callbacks, under follower_mutex_.
 #pragma once
 
+#include <geometry_msgs/PoseStamped.h>
 #include <message_filters/subscriber.h>
 #include <message_filters/sync_policies/approximate_time.h>
 #include <message_filters/sync_policies/exact_time.h>
@@ -19,6 +26,7 @@
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <std_msgs/Empty.h>
 #include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/buffer.h>
@@ -32,6 +40,7 @@
 #include <string>
 
 #include "core/json.h"
+#include "servo/goal_follower.h"
 #include "session/live_session.h"
 #include "session/robot_frames.h"
 
@@ -51,6 +60,7 @@ struct NodeSettings {
   double sparse_period_s = 1.0;    ///< period of the sparse map topics
   bool publish_tf = true;
   bool dense = true;               ///< dense products while running (published, written to out) and at shutdown
+  GoalFollowerOptions follow;      ///< max_linear, max_angular (TurtleBot3 Burger), goal_tolerance, goal_yaw_tolerance, frame_timeout
 
   static NodeSettings fromParameters(const ros::NodeHandle& pnh);
 };
@@ -88,6 +98,19 @@ class RosNode {
   /// After a reset: empty sparse and dense maps on the latched topics.
   void clearMaps();
   bool onLocalize(std_srvs::SetBool::Request& request, std_srvs::SetBool::Response& response);
+  void onGoal(const geometry_msgs::PoseStampedConstPtr& goal);
+  void onCancel(const std_msgs::EmptyConstPtr&);
+  /// The goal pose in the map frame: as given in it (or without a frame_id), else through TF.
+  std::optional<SE3> goalInMap(const geometry_msgs::PoseStamped& goal);
+  /// The follower's command for a frame (SLAM thread); base pose none when not tracked.
+  void followGoal(const std::optional<SE3>& T_map_base);
+  /// Stops the base when the frames stopped coming while driving.
+  void onFollowerTimer(const ros::WallTimerEvent&);
+  /// Drops the goal (cancel, reset, shutdown), sending the zero command when one was driven
+  /// (then true).
+  bool dropGoal(const char* why);
+  /// Publishes a command on cmd_vel and logs the end of a goal; under follower_mutex_.
+  void sendCommand(const FollowCommand& command);
   Json statsExtra() const;
   LiveSession* session() const;
 
@@ -100,8 +123,10 @@ class RosNode {
   ros::Subscriber info_sub_;
   ros::Publisher camera_pose_pub_, base_pose_pub_, path_pub_, points_pub_, lines_pub_, status_pub_;
   ros::Publisher dense_cloud_pub_, grid_pub_;
+  ros::Publisher cmd_vel_pub_;
+  ros::Subscriber goal_sub_, cancel_sub_;
   ros::ServiceServer save_srv_, reset_srv_, localize_srv_;
-  ros::WallTimer sparse_timer_;
+  ros::WallTimer sparse_timer_, follower_timer_;
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
@@ -117,6 +142,8 @@ class RosNode {
   std::atomic<int> before_camera_{0};   // image pairs received before the camera was known
   std::atomic<int> unconvertible_{0};   // image pairs that could not be converted
   std::atomic<bool> finishing_{false};
+  std::mutex follower_mutex_;
+  GoalFollower follower_;               // under follower_mutex_
 };
 
 }  // namespace plslam::ros1
