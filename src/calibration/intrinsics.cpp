@@ -103,6 +103,102 @@ const char* distortionModelName(DistortionModel m) {
   return "?";
 }
 
+namespace {
+
+/// Views in use and the rejection reasons counted, for the "too few views" message.
+struct ViewSelection {
+  std::vector<size_t> used;
+  std::map<std::string, int> rejected;
+
+  DataError tooFew(const IntrinsicsOptions& options, size_t n) const {
+    std::string why;
+    for (const auto& [reason, count] : rejected) why += str(why.empty() ? "" : ", ", count, " ", reason);
+    return DataError(str("calibration needs at least ", options.min_views, " accepted views, got ", used.size(), " of ",
+                         n, why.empty() ? "" : " (rejected: " + why + ")",
+                         "; take more views of the whole target, sharp and from varied angles"));
+  }
+  std::vector<const Observation*> observations(const std::vector<ViewResult>& views) const {
+    std::vector<const Observation*> obs;
+    for (size_t i : used) obs.push_back(&views[i].observation);
+    return obs;
+  }
+};
+
+/// One pass of outlier removal: a view far worse than the rest is a misdetection or a
+/// target that moved or bent. Returns whether any view was dropped.
+bool dropHighErrorViews(const RunOutput& run, const IntrinsicsOptions& options, std::vector<ViewResult>& views,
+                        ViewSelection* sel) {
+  const double med = median(run.view_rms);
+  const double limit = std::max(options.outlier_factor * med, options.outlier_min_px);
+  std::vector<size_t> kept;
+  for (size_t k = 0; k < sel->used.size(); ++k) {
+    if (run.view_rms[k] > limit) {
+      ViewResult& v = views[sel->used[k]];
+      v.status = ViewStatus::kHighError;
+      v.reason = str("reprojection RMS ", cv::format("%.2f", run.view_rms[k]), " px is far above the median ",
+                     cv::format("%.2f", med), " px: a misdetection, or the target moved or is not flat");
+      ++sel->rejected[viewStatusName(v.status)];
+    } else {
+      kept.push_back(sel->used[k]);
+    }
+  }
+  if (kept.size() == sel->used.size()) return false;
+  sel->used = kept;
+  return true;
+}
+
+void setCamera(const RunOutput& run, const cv::Size& image_size, const IntrinsicsOptions& options, PinholeCamera* cam) {
+  cam->name = options.camera_name;
+  cam->width = image_size.width;
+  cam->height = image_size.height;
+  cam->fx = run.K.at<double>(0, 0);
+  cam->fy = run.K.at<double>(1, 1);
+  cam->cx = run.K.at<double>(0, 2);
+  cam->cy = run.K.at<double>(1, 2);
+  for (int i = 0; i < 5; ++i) cam->dist[i] = run.dist.at<double>(i);
+  cam->depth_scale = options.depth_scale;
+}
+
+/// Per used view its RMS and board pose; the coverage of the image and the tilted views, for the guidance lines.
+void measureViews(const RunOutput& run, const std::vector<size_t>& used, const cv::Size& image_size,
+                  IntrinsicsResult* res) {
+  const int gx = 8, gy = 6;
+  std::vector<uint8_t> cells(gx * gy, 0);
+  for (size_t k = 0; k < used.size(); ++k) {
+    res->view_rms_px[used[k]] = run.view_rms[k];
+    res->T_c_board[used[k]] = poseFromRvecTvec(run.rvecs[k], run.tvecs[k]);
+    const Eigen::Vector3d normal = res->T_c_board[used[k]].rotation().col(2);
+    if (std::acos(std::min(1.0, std::abs(normal.z()))) > 15.0 * M_PI / 180.0) ++res->tilted_views;
+    for (const cv::Point2f& p : res->views[used[k]].observation.image) {
+      const int cx = std::clamp(static_cast<int>(p.x * gx / image_size.width), 0, gx - 1);
+      const int cy = std::clamp(static_cast<int>(p.y * gy / image_size.height), 0, gy - 1);
+      cells[cy * gx + cx] = 1;
+    }
+  }
+  res->coverage = static_cast<double>(std::count(cells.begin(), cells.end(), 1)) / cells.size();
+}
+
+void addGuidance(IntrinsicsResult* res) {
+  const PinholeCamera& cam = res->camera;
+  if (res->coverage < 0.7)
+    res->guidance.push_back(str("the target's corners reach only ", cv::format("%.0f", 100 * res->coverage),
+                                " % of the image: add views with the target near the image corners and edges, "
+                                "where distortion shows"));
+  if (res->tilted_views < 3)
+    res->guidance.push_back(str("only ", res->tilted_views, " views have the target tilted by more than 15 degrees: "
+                                "add views tilted 20-45 degrees left/right and up/down (they fix the focal length)"));
+  if (res->views_used < 10)
+    res->guidance.push_back(str(res->views_used, " views used: 10-20 varied views give a more reliable calibration"));
+  if (res->rms_px > 1.0)
+    res->guidance.push_back(str("reprojection RMS ", cv::format("%.2f", res->rms_px),
+                                " px is high: check the target size in --target, that it is flat, and the focus"));
+  if (res->std_dev[0] > 0.005 * cam.fx || res->std_dev[1] > 0.005 * cam.fy)
+    res->guidance.push_back(str("focal length uncertain (fx +- ", cv::format("%.2f", res->std_dev[0]),
+                                " px): add tilted views at several distances"));
+}
+
+}  // namespace
+
 IntrinsicsResult calibrateIntrinsics(std::vector<ViewResult> views, const cv::Size& image_size,
                                      const IntrinsicsOptions& options) {
   IntrinsicsResult res;
@@ -112,98 +208,29 @@ IntrinsicsResult calibrateIntrinsics(std::vector<ViewResult> views, const cv::Si
   res.view_rms_px.assign(n, std::numeric_limits<double>::quiet_NaN());
   res.T_c_board.assign(n, SE3());
 
-  std::vector<size_t> used;
-  std::map<std::string, int> rejected;
+  ViewSelection sel;
   for (size_t i = 0; i < n; ++i) {
     if (res.views[i].accepted()) {
-      used.push_back(i);
+      sel.used.push_back(i);
     } else {
-      ++rejected[viewStatusName(res.views[i].status)];
+      ++sel.rejected[viewStatusName(res.views[i].status)];
     }
   }
-  auto tooFew = [&]() {
-    std::string why;
-    for (const auto& [reason, count] : rejected) why += str(why.empty() ? "" : ", ", count, " ", reason);
-    return DataError(str("calibration needs at least ", options.min_views, " accepted views, got ", used.size(), " of ",
-                         n, why.empty() ? "" : " (rejected: " + why + ")",
-                         "; take more views of the whole target, sharp and from varied angles"));
-  };
-  if (static_cast<int>(used.size()) < std::max(3, options.min_views)) throw tooFew();
+  if (static_cast<int>(sel.used.size()) < std::max(3, options.min_views)) throw sel.tooFew(options, n);
 
-  auto observations = [&]() {
-    std::vector<const Observation*> obs;
-    for (size_t i : used) obs.push_back(&res.views[i].observation);
-    return obs;
-  };
-  RunOutput run = runCalibration(observations(), image_size, options.model);
-
-  // One pass of outlier removal: a view far worse than the rest is a misdetection or a
-  // target that moved or bent.
-  const double med = median(run.view_rms);
-  const double limit = std::max(options.outlier_factor * med, options.outlier_min_px);
-  std::vector<size_t> kept;
-  for (size_t k = 0; k < used.size(); ++k) {
-    if (run.view_rms[k] > limit) {
-      ViewResult& v = res.views[used[k]];
-      v.status = ViewStatus::kHighError;
-      v.reason = str("reprojection RMS ", cv::format("%.2f", run.view_rms[k]), " px is far above the median ",
-                     cv::format("%.2f", med), " px: a misdetection, or the target moved or is not flat");
-      ++rejected[viewStatusName(v.status)];
-    } else {
-      kept.push_back(used[k]);
-    }
-  }
-  if (kept.size() != used.size()) {
-    used = kept;
-    if (static_cast<int>(used.size()) < std::max(3, options.min_views)) throw tooFew();
-    run = runCalibration(observations(), image_size, options.model);
+  RunOutput run = runCalibration(sel.observations(res.views), image_size, options.model);
+  if (dropHighErrorViews(run, options, res.views, &sel)) {
+    if (static_cast<int>(sel.used.size()) < std::max(3, options.min_views)) throw sel.tooFew(options, n);
+    run = runCalibration(sel.observations(res.views), image_size, options.model);
   }
 
-  PinholeCamera& cam = res.camera;
-  cam.name = options.camera_name;
-  cam.width = image_size.width;
-  cam.height = image_size.height;
-  cam.fx = run.K.at<double>(0, 0);
-  cam.fy = run.K.at<double>(1, 1);
-  cam.cx = run.K.at<double>(0, 2);
-  cam.cy = run.K.at<double>(1, 2);
-  for (int i = 0; i < 5; ++i) cam.dist[i] = run.dist.at<double>(i);
-  cam.depth_scale = options.depth_scale;
+  setCamera(run, image_size, options, &res.camera);
   for (int i = 0; i < 4 && i < run.std_intr.rows; ++i) res.std_dev[i] = run.std_intr.at<double>(i);
   res.rms_px = run.rms;
-  res.views_used = static_cast<int>(used.size());
-
-  // Coverage of the image and tilt of the used views, for the guidance lines.
-  const int gx = 8, gy = 6;
-  std::vector<uint8_t> cells(gx * gy, 0);
-  for (size_t k = 0; k < used.size(); ++k) {
-    res.view_rms_px[used[k]] = run.view_rms[k];
-    res.T_c_board[used[k]] = poseFromRvecTvec(run.rvecs[k], run.tvecs[k]);
-    const Eigen::Vector3d normal = res.T_c_board[used[k]].rotation().col(2);
-    if (std::acos(std::min(1.0, std::abs(normal.z()))) > 15.0 * M_PI / 180.0) ++res.tilted_views;
-    for (const cv::Point2f& p : res.views[used[k]].observation.image) {
-      const int cx = std::clamp(static_cast<int>(p.x * gx / image_size.width), 0, gx - 1);
-      const int cy = std::clamp(static_cast<int>(p.y * gy / image_size.height), 0, gy - 1);
-      cells[cy * gx + cx] = 1;
-    }
-  }
-  res.coverage = static_cast<double>(std::count(cells.begin(), cells.end(), 1)) / cells.size();
-
-  if (res.coverage < 0.7)
-    res.guidance.push_back(str("the target's corners reach only ", cv::format("%.0f", 100 * res.coverage),
-                               " % of the image: add views with the target near the image corners and edges, "
-                               "where distortion shows"));
-  if (res.tilted_views < 3)
-    res.guidance.push_back(str("only ", res.tilted_views, " views have the target tilted by more than 15 degrees: "
-                               "add views tilted 20-45 degrees left/right and up/down (they fix the focal length)"));
-  if (res.views_used < 10)
-    res.guidance.push_back(str(res.views_used, " views used: 10-20 varied views give a more reliable calibration"));
-  if (res.rms_px > 1.0)
-    res.guidance.push_back(str("reprojection RMS ", cv::format("%.2f", res.rms_px),
-                               " px is high: check the target size in --target, that it is flat, and the focus"));
-  if (res.std_dev[0] > 0.005 * cam.fx || res.std_dev[1] > 0.005 * cam.fy)
-    res.guidance.push_back(str("focal length uncertain (fx +- ", cv::format("%.2f", res.std_dev[0]),
-                               " px): add tilted views at several distances"));
+  res.views_used = static_cast<int>(sel.used.size());
+  measureViews(run, sel.used, image_size, &res);
+  addGuidance(&res);
+  const PinholeCamera& cam = res.camera;
   kLog.info(str("calibrated from ", res.views_used, " views of ", n, ": fx ", cam.fx, " fy ", cam.fy, " cx ", cam.cx,
                 " cy ", cam.cy, ", RMS ", res.rms_px, " px"));
   return res;

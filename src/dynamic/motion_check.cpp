@@ -230,6 +230,218 @@ std::optional<SE3> fitRigid(const std::vector<Eigen::Vector3d>& src, const std::
 
 namespace {
 
+/// The correspondences with depth on both sides and finite pixels, with their covariances.
+DepthSet buildDepthSet(const std::vector<MotionCorrespondence>& corr, const PinholeCamera& cam,
+                       const MotionCheckOptions& o) {
+  DepthSet s;
+  for (int i = 0; i < static_cast<int>(corr.size()); ++i) {
+    const auto& c = corr[i];
+    if (!c.hasDepthPrev() || !c.hasDepthCur() || !c.uv_prev.allFinite() || !c.uv_cur.allFinite()) continue;
+    s.index.push_back(i);
+    s.p.push_back(c.p_prev);
+    s.c.push_back(c.p_cur);
+    s.cov_p.push_back(pointCovariance(cam, c.uv_prev, c.p_prev.z(), o.noise, c.pixel_sigma_scale));
+    s.cov_c.push_back(pointCovariance(cam, c.uv_cur, c.p_cur.z(), o.noise, c.pixel_sigma_scale));
+    s.info.push_back((s.cov_p.back() + s.cov_c.back()).inverse());
+  }
+  return s;
+}
+
+Ranking makeRanking(const MotionCheckOptions& o, bool with_prior) {
+  Ranking rk;
+  rk.quantile = std::clamp(with_prior ? o.prior_rank_quantile : o.rank_quantile, 0.05, 0.95);
+  rk.expected = chi2Dof3Quantile(rk.quantile);
+  rk.thr = o.chi2_3d;
+  if (o.adapt_noise_scale) {
+    rk.min_scale = o.min_noise_scale;
+    rk.max_scale = std::max(o.min_noise_scale, o.max_noise_scale);
+  }
+  return rk;
+}
+
+/// Three distinct indices below n.
+void drawSample(std::mt19937_64& rng, int n, int k[3]) {
+  k[0] = static_cast<int>(rng() % n);
+  do k[1] = static_cast<int>(rng() % n); while (k[1] == k[0]);
+  do k[2] = static_cast<int>(rng() % n); while (k[2] == k[0] || k[2] == k[1]);
+}
+
+/// RANSAC over minimal 3-point rigid fits (and the prior, when given), with local refits of
+/// every new best hypothesis. Counts hypotheses and whether the prior won into the result.
+class MotionSearch {
+ public:
+  MotionSearch(const DepthSet& s, const MotionCheckOptions& o, const std::optional<SE3>& prior, const Ranking& rk,
+               MotionCheckResult* res)
+      : s_(s), o_(o), prior_(prior), rk_(rk), res_(res), n_(static_cast<int>(s.p.size())),
+        log_fail_(std::log(1.0 - std::clamp(o.confidence, 0.5, 1.0 - 1e-12))), needed_(o.max_iterations) {}
+
+  void run() {
+    std::mt19937_64 rng(o_.seed);
+    if (prior_) consider(*prior_, true);
+    const int max_draws = 20 * std::max(1, o_.max_iterations);
+    for (int draw = 0, iter = 0; draw < max_draws && iter < std::min(needed_, o_.max_iterations); ++draw) {
+      int k[3];
+      drawSample(rng, n_, k);
+      const SampleCheck check = checkSample(s_, k, o_);
+      if (check == SampleCheck::kDegenerate) continue;
+      ++good_samples;  // a proper triangle, rigid or not
+      if (check == SampleCheck::kNotRigid) continue;
+      const auto T = fitRigid({s_.p[k[0]], s_.p[k[1]], s_.p[k[2]]}, {s_.c[k[0]], s_.c[k[1]], s_.c[k[2]]});
+      if (!T || (prior_ && !nearPrior(s_, *T, *prior_, o_))) continue;  // only hypotheses near the prior count
+      ++iter;
+      consider(*T, false);
+    }
+  }
+
+  Score best;
+  std::optional<SE3> best_T;
+  int good_samples = 0;
+  std::vector<double> scratch;
+
+ private:
+  void consider(const SE3& T, bool is_prior) {
+    ++res_->hypotheses;
+    Score sc = scoreMotion(s_, T, rk_, scratch);
+    if (!sc.betterThan(best)) return;
+    best = sc;
+    best_T = T;
+    res_->prior_won = is_prior;
+    // Local optimisation: minimal samples of noisy far points give rough motions; refits on
+    // their inliers make a near-true hypothesis score as well as it deserves.
+    // (Inliers at most at the model's threshold: a poor hypothesis has a large noise scale.)
+    for (int lo = 0; lo < o_.refine_iterations; ++lo) {
+      const auto refit = refitOnInliers(s_, *best_T, rk_.thr * std::min(best.scale, 1.0));
+      if (!refit || (prior_ && !nearPrior(s_, *refit, *prior_, o_))) break;
+      sc = scoreMotion(s_, *refit, rk_, scratch);
+      if (!sc.betterThan(best)) break;
+      best = sc;
+      best_T = refit;
+      res_->prior_won = false;
+    }
+    const double w = static_cast<double>(best.inliers) / n_;
+    const double p_fail = 1.0 - w * w * w;
+    needed_ = p_fail <= 0 ? o_.min_iterations
+                          : std::max(o_.min_iterations, static_cast<int>(std::ceil(log_fail_ / std::log(p_fail))));
+  }
+
+  const DepthSet& s_;
+  const MotionCheckOptions& o_;
+  const std::optional<SE3>& prior_;
+  const Ranking& rk_;
+  MotionCheckResult* res_;
+  const int n_;
+  const double log_fail_;
+  int needed_;
+};
+
+/// Maximum-likelihood polish of T on the inliers, kept when it does not rank worse (updates `best`).
+SE3 polishMotion(const DepthSet& s, SE3 T, const std::optional<SE3>& prior, const MotionCheckOptions& o,
+                 const Ranking& rk, Score* best, std::vector<double>& scratch) {
+  for (int round = 0; round < 2; ++round) {
+    const SE3 polished = refineMahalanobis(s, T, rk.thr * best->scale, o.refine_iterations + 2);
+    if (prior && !nearPrior(s, polished, *prior, o)) break;
+    const Score sc = scoreMotion(s, polished, rk, scratch);
+    if (sc.value > best->value * 1.05) break;
+    T = polished;
+    *best = sc;
+  }
+  return T;
+}
+
+/// The tests of single correspondences against the camera motion T (cur <- prev).
+class MotionTests {
+ public:
+  MotionTests(const PinholeCamera& cam, const MotionCheckOptions& o, const SE3& T, double noise_scale)
+      : cam_(cam), o_(o), T_(T), R_(T.rotation()), t_(T.translation()), T_prev_cur_(T.inverse()),
+        noise_scale_(noise_scale) {
+    Eigen::Matrix3d Kinv;
+    Kinv << 1 / cam.fx, 0, -cam.cx / cam.fx, 0, 1 / cam.fy, -cam.cy / cam.fy, 0, 0, 1;
+    F_ = Kinv.transpose() * hat(t_) * R_ * Kinv;  // x_cur^T F x_prev = 0
+    f_ = std::max(std::abs(cam.fx), std::abs(cam.fy));  // pixels per unit of x/z; fx, fy are signed
+  }
+
+  /// Every depth correspondence by its 3D residual (exact covariances); recounts the inliers.
+  void rigid3d(const DepthSet& s, MotionCheckResult& res) const {
+    const int n = static_cast<int>(s.p.size());
+    for (int k = 0; k < n; ++k) {
+      const int i = s.index[k];
+      res.evidence[i] = MotionEvidence::kRigid3d;
+      res.chi2[i] = setChi2(s, k, R_, t_);
+      res.residual[i] = (R_ * s.p[k] + t_ - s.c[k]).norm();
+      res.moving[i] = res.chi2[i] >= o_.chi2_3d * noise_scale_;
+    }
+    res.inliers = 0;  // with the exact covariances (scoring used the unrotated ones)
+    for (int k = 0; k < n; ++k) res.inliers += !res.moving[s.index[k]];
+  }
+
+  /// A correspondence without depth on both sides, by the best test its data allow.
+  void single(const MotionCorrespondence& c, int i, MotionCheckResult& res) const {
+    if (res.evidence[i] != MotionEvidence::kNone || !c.uv_prev.allFinite() || !c.uv_cur.allFinite()) return;
+    const double sp = o_.noise.pixel_sigma * c.pixel_sigma_scale;
+    if (c.hasDepthPrev() || c.hasDepthCur())
+      reprojection(c, i, sp, res);
+    else if (t_.norm() >= o_.min_epipolar_baseline_m)
+      epipolar(c, i, sp, res);
+    else
+      rotationOnly(c, i, sp, res);
+  }
+
+ private:
+  /// Reprojection of the side with depth into the other image.
+  void reprojection(const MotionCorrespondence& c, int i, double sp, MotionCheckResult& res) const {
+    const bool from_prev = c.hasDepthPrev();
+    const Eigen::Vector3d q = from_prev ? T_ * c.p_prev : T_prev_cur_ * c.p_cur;
+    const Eigen::Vector2d uv_obs = from_prev ? c.uv_cur : c.uv_prev;
+    res.evidence[i] = MotionEvidence::kReprojection;
+    if (q.z() <= 1e-6) {  // lands behind the camera
+      res.residual[i] = res.chi2[i] = kInf;
+      res.moving[i] = 1;
+      return;
+    }
+    const Eigen::Matrix3d Rq = from_prev ? R_ : Eigen::Matrix3d(R_.transpose());
+    const Eigen::Matrix3d cov3 = from_prev ? pointCovariance(cam_, c.uv_prev, c.p_prev.z(), o_.noise, c.pixel_sigma_scale)
+                                           : pointCovariance(cam_, c.uv_cur, c.p_cur.z(), o_.noise, c.pixel_sigma_scale);
+    const auto J = projectionJacobian(cam_, q);
+    const Eigen::Matrix2d cov = J * Rq * cov3 * Rq.transpose() * J.transpose() + sp * sp * Eigen::Matrix2d::Identity();
+    const Eigen::Vector2d e = uv_obs - cam_.projectIdeal(q);
+    res.residual[i] = e.norm();
+    res.chi2[i] = e.dot(cov.ldlt().solve(e));
+    res.moving[i] = res.chi2[i] >= o_.chi2_2d * noise_scale_;
+  }
+
+  void epipolar(const MotionCorrespondence& c, int i, double sp, MotionCheckResult& res) const {
+    const Eigen::Vector3d line = F_ * Eigen::Vector3d(c.uv_prev.x(), c.uv_prev.y(), 1.0);
+    const double d = std::abs(line.dot(Eigen::Vector3d(c.uv_cur.x(), c.uv_cur.y(), 1.0))) / line.head<2>().norm();
+    res.evidence[i] = MotionEvidence::kEpipolar;
+    res.residual[i] = d;
+    res.chi2[i] = d * d / (2 * sp * sp);
+    res.moving[i] = res.chi2[i] >= o_.chi2_1d * noise_scale_;
+  }
+
+  /// Hardly any translation: the rotation alone predicts the pixel, up to the parallax
+  /// of the nearest plausible depth.
+  void rotationOnly(const MotionCorrespondence& c, int i, double sp, MotionCheckResult& res) const {
+    const Eigen::Vector3d ray = R_ * cam_.unprojectIdeal(c.uv_prev, 1.0);
+    if (ray.z() <= 1e-6) return;  // rotated out of view: no check
+    res.evidence[i] = MotionEvidence::kRotation;
+    const double e = (c.uv_cur - cam_.projectIdeal(ray)).norm();
+    const double excess = std::max(0.0, e - f_ * t_.norm() / o_.min_scene_depth_m);
+    res.residual[i] = e;
+    res.chi2[i] = excess * excess / (2 * sp * sp);
+    res.moving[i] = res.chi2[i] >= o_.chi2_2d * noise_scale_;
+  }
+
+  const PinholeCamera& cam_;
+  const MotionCheckOptions& o_;
+  const SE3 T_;
+  const Eigen::Matrix3d R_;
+  const Eigen::Vector3d t_;
+  const SE3 T_prev_cur_;
+  const double noise_scale_;
+  Eigen::Matrix3d F_;
+  double f_;
+};
+
 MotionCheckResult checkMotionOnce(const std::vector<MotionCorrespondence>& corr, const PinholeCamera& cam,
                                   const MotionCheckOptions& o, const std::optional<SE3>& prior) {
   const int n_all = static_cast<int>(corr.size());
@@ -240,17 +452,7 @@ MotionCheckResult checkMotionOnce(const std::vector<MotionCorrespondence>& corr,
   res.chi2.assign(n_all, kNaN);
   res.prior_used = prior.has_value();
 
-  DepthSet s;
-  for (int i = 0; i < n_all; ++i) {
-    const auto& c = corr[i];
-    if (!c.hasDepthPrev() || !c.hasDepthCur() || !c.uv_prev.allFinite() || !c.uv_cur.allFinite()) continue;
-    s.index.push_back(i);
-    s.p.push_back(c.p_prev);
-    s.c.push_back(c.p_cur);
-    s.cov_p.push_back(pointCovariance(cam, c.uv_prev, c.p_prev.z(), o.noise, c.pixel_sigma_scale));
-    s.cov_c.push_back(pointCovariance(cam, c.uv_cur, c.p_cur.z(), o.noise, c.pixel_sigma_scale));
-    s.info.push_back((s.cov_p.back() + s.cov_c.back()).inverse());
-  }
+  const DepthSet s = buildDepthSet(corr, cam, o);
   const int n = static_cast<int>(s.p.size());
   res.with_depth = n;
   if (n_all < o.min_correspondences) {
@@ -262,81 +464,20 @@ MotionCheckResult checkMotionOnce(const std::vector<MotionCorrespondence>& corr,
     return res;
   }
 
-  // RANSAC over minimal 3-point rigid fits.
-  std::mt19937_64 rng(o.seed);
-  Score best;
-  std::vector<double> scratch;
-  Ranking rk;
-  rk.quantile = std::clamp(prior ? o.prior_rank_quantile : o.rank_quantile, 0.05, 0.95);
-  rk.expected = chi2Dof3Quantile(rk.quantile);
-  rk.thr = o.chi2_3d;
-  if (o.adapt_noise_scale) {
-    rk.min_scale = o.min_noise_scale;
-    rk.max_scale = std::max(o.min_noise_scale, o.max_noise_scale);
-  }
-  std::optional<SE3> best_T;
-  int good_samples = 0;
-  const double log_fail = std::log(1.0 - std::clamp(o.confidence, 0.5, 1.0 - 1e-12));
-  int needed = o.max_iterations;
-  auto consider = [&](const SE3& T, bool is_prior) {
-    ++res.hypotheses;
-    Score sc = scoreMotion(s, T, rk, scratch);
-    if (!sc.betterThan(best)) return;
-    best = sc;
-    best_T = T;
-    res.prior_won = is_prior;
-    // Local optimisation: minimal samples of noisy far points give rough motions; refits on
-    // their inliers make a near-true hypothesis score as well as it deserves.
-    // (Inliers at most at the model's threshold: a poor hypothesis has a large noise scale.)
-    for (int lo = 0; lo < o.refine_iterations; ++lo) {
-      const auto refit = refitOnInliers(s, *best_T, rk.thr * std::min(best.scale, 1.0));
-      if (!refit || (prior && !nearPrior(s, *refit, *prior, o))) break;
-      sc = scoreMotion(s, *refit, rk, scratch);
-      if (!sc.betterThan(best)) break;
-      best = sc;
-      best_T = refit;
-      res.prior_won = false;
-    }
-    const double w = static_cast<double>(best.inliers) / n;
-    const double p_fail = 1.0 - w * w * w;
-    needed = p_fail <= 0 ? o.min_iterations
-                         : std::max(o.min_iterations, static_cast<int>(std::ceil(log_fail / std::log(p_fail))));
-  };
-  if (prior) consider(*prior, true);
-  const int max_draws = 20 * std::max(1, o.max_iterations);
-  for (int draw = 0, iter = 0; draw < max_draws && iter < std::min(needed, o.max_iterations); ++draw) {
-    int k[3];
-    k[0] = static_cast<int>(rng() % n);
-    do k[1] = static_cast<int>(rng() % n); while (k[1] == k[0]);
-    do k[2] = static_cast<int>(rng() % n); while (k[2] == k[0] || k[2] == k[1]);
-    const SampleCheck check = checkSample(s, k, o);
-    if (check == SampleCheck::kDegenerate) continue;
-    ++good_samples;  // a proper triangle, rigid or not
-    if (check == SampleCheck::kNotRigid) continue;
-    const auto T = fitRigid({s.p[k[0]], s.p[k[1]], s.p[k[2]]}, {s.c[k[0]], s.c[k[1]], s.c[k[2]]});
-    if (!T || (prior && !nearPrior(s, *T, *prior, o))) continue;  // only hypotheses near the prior count
-    ++iter;
-    consider(*T, false);
-  }
-  if (!best_T) {
-    res.status = good_samples == 0 && !prior ? MotionCheckStatus::kDegenerate : MotionCheckStatus::kNoConsensus;
+  const Ranking rk = makeRanking(o, prior.has_value());
+  MotionSearch search(s, o, prior, rk, &res);
+  search.run();
+  Score best = search.best;
+  if (!search.best_T) {
+    res.status = search.good_samples == 0 && !prior ? MotionCheckStatus::kDegenerate : MotionCheckStatus::kNoConsensus;
     return res;
   }
-  if (best.inliers >= 3 && !refitOnInliers(s, *best_T, rk.thr * best.scale)) {
+  if (best.inliers >= 3 && !refitOnInliers(s, *search.best_T, rk.thr * best.scale)) {
     res.status = MotionCheckStatus::kDegenerate;  // the inliers are collinear
     return res;
   }
 
-  // Maximum-likelihood polish on the inliers, kept when it does not rank worse.
-  SE3 T = *best_T;
-  for (int round = 0; round < 2; ++round) {
-    const SE3 polished = refineMahalanobis(s, T, rk.thr * best.scale, o.refine_iterations + 2);
-    if (prior && !nearPrior(s, polished, *prior, o)) break;
-    const Score sc = scoreMotion(s, polished, rk, scratch);
-    if (sc.value > best.value * 1.05) break;
-    T = polished;
-    best = sc;
-  }
+  const SE3 T = polishMotion(s, *search.best_T, prior, o, rk, &best, search.scratch);
   const int count = best.inliers;
   res.noise_scale = best.scale;
   res.inliers = count;
@@ -348,67 +489,9 @@ MotionCheckResult checkMotionOnce(const std::vector<MotionCorrespondence>& corr,
   res.T_cur_prev = T;
 
   // Check every correspondence against the camera motion.
-  const Eigen::Matrix3d R = T.rotation();
-  const Eigen::Vector3d t = T.translation();
-  const SE3 T_prev_cur = T.inverse();
-  Eigen::Matrix3d Kinv;
-  Kinv << 1 / cam.fx, 0, -cam.cx / cam.fx, 0, 1 / cam.fy, -cam.cy / cam.fy, 0, 0, 1;
-  const Eigen::Matrix3d F = Kinv.transpose() * hat(t) * R * Kinv;  // x_cur^T F x_prev = 0
-  const double f = std::max(std::abs(cam.fx), std::abs(cam.fy));  // pixels per unit of x/z; fx, fy are signed
-  for (int k = 0; k < n; ++k) {
-    const int i = s.index[k];
-    res.evidence[i] = MotionEvidence::kRigid3d;
-    res.chi2[i] = setChi2(s, k, R, t);
-    res.residual[i] = (R * s.p[k] + t - s.c[k]).norm();
-    res.moving[i] = res.chi2[i] >= o.chi2_3d * res.noise_scale;
-  }
-  res.inliers = 0;  // with the exact covariances (scoring used the unrotated ones)
-  for (int k = 0; k < n; ++k) res.inliers += !res.moving[s.index[k]];
-  for (int i = 0; i < n_all; ++i) {
-    const auto& c = corr[i];
-    if (res.evidence[i] != MotionEvidence::kNone || !c.uv_prev.allFinite() || !c.uv_cur.allFinite()) continue;
-    const double sp = o.noise.pixel_sigma * c.pixel_sigma_scale;
-    if (c.hasDepthPrev() || c.hasDepthCur()) {
-      // Reprojection of the side with depth into the other image.
-      const bool from_prev = c.hasDepthPrev();
-      const Eigen::Vector3d q = from_prev ? T * c.p_prev : T_prev_cur * c.p_cur;
-      const Eigen::Vector2d uv_obs = from_prev ? c.uv_cur : c.uv_prev;
-      res.evidence[i] = MotionEvidence::kReprojection;
-      if (q.z() <= 1e-6) {  // lands behind the camera
-        res.residual[i] = res.chi2[i] = kInf;
-        res.moving[i] = 1;
-        continue;
-      }
-      const Eigen::Matrix3d Rq = from_prev ? R : Eigen::Matrix3d(R.transpose());
-      const Eigen::Matrix3d cov3 =
-          from_prev ? pointCovariance(cam, c.uv_prev, c.p_prev.z(), o.noise, c.pixel_sigma_scale)
-                    : pointCovariance(cam, c.uv_cur, c.p_cur.z(), o.noise, c.pixel_sigma_scale);
-      const auto J = projectionJacobian(cam, q);
-      const Eigen::Matrix2d cov = J * Rq * cov3 * Rq.transpose() * J.transpose() + sp * sp * Eigen::Matrix2d::Identity();
-      const Eigen::Vector2d e = uv_obs - cam.projectIdeal(q);
-      res.residual[i] = e.norm();
-      res.chi2[i] = e.dot(cov.ldlt().solve(e));
-      res.moving[i] = res.chi2[i] >= o.chi2_2d * res.noise_scale;
-    } else if (t.norm() >= o.min_epipolar_baseline_m) {
-      const Eigen::Vector3d line = F * Eigen::Vector3d(c.uv_prev.x(), c.uv_prev.y(), 1.0);
-      const double d = std::abs(line.dot(Eigen::Vector3d(c.uv_cur.x(), c.uv_cur.y(), 1.0))) / line.head<2>().norm();
-      res.evidence[i] = MotionEvidence::kEpipolar;
-      res.residual[i] = d;
-      res.chi2[i] = d * d / (2 * sp * sp);
-      res.moving[i] = res.chi2[i] >= o.chi2_1d * res.noise_scale;
-    } else {
-      // Hardly any translation: the rotation alone predicts the pixel, up to the parallax
-      // of the nearest plausible depth.
-      const Eigen::Vector3d ray = R * cam.unprojectIdeal(c.uv_prev, 1.0);
-      if (ray.z() <= 1e-6) continue;  // rotated out of view: no check
-      res.evidence[i] = MotionEvidence::kRotation;
-      const double e = (c.uv_cur - cam.projectIdeal(ray)).norm();
-      const double excess = std::max(0.0, e - f * t.norm() / o.min_scene_depth_m);
-      res.residual[i] = e;
-      res.chi2[i] = excess * excess / (2 * sp * sp);
-      res.moving[i] = res.chi2[i] >= o.chi2_2d * res.noise_scale;
-    }
-  }
+  const MotionTests tests(cam, o, T, res.noise_scale);
+  tests.rigid3d(s, res);
+  for (int i = 0; i < n_all; ++i) tests.single(corr[i], i, res);
   return res;
 }
 

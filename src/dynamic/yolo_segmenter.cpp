@@ -195,6 +195,61 @@ const YoloSegLayout& YoloSegmenter::layout() const { return impl_->layout; }
 const ClassList& YoloSegmenter::classes() const { return impl_->classes; }
 const YoloSegOptions& YoloSegmenter::options() const { return impl_->options; }
 
+namespace {
+
+struct Candidate {
+  int anchor, class_id;
+  float score;
+  cv::Rect2d box;
+};
+
+/// Per anchor its best class over the confidence; class-aware NMS; best scores first, at
+/// most max_instances. `anchors` holds one row per anchor: cx cy w h, class scores, mask coefficients.
+std::vector<Candidate> selectDetections(const cv::Mat& anchors, const YoloSegLayout& L, const YoloSegOptions& o) {
+  std::map<int, std::vector<Candidate>> by_class;
+  for (int a = 0; a < L.num_anchors; ++a) {
+    const float* r = anchors.ptr<float>(a);
+    const float* scores = r + 4;
+    const int best = static_cast<int>(std::max_element(scores, scores + L.num_classes) - scores);
+    if (scores[best] < o.confidence) continue;
+    by_class[best].push_back({a, best, scores[best], cv::Rect2d(r[0] - 0.5 * r[2], r[1] - 0.5 * r[3], r[2], r[3])});
+  }
+  std::vector<Candidate> kept;
+  for (auto& [cls, cands] : by_class) {
+    std::vector<cv::Rect2d> boxes;
+    std::vector<float> scores;
+    for (const auto& c : cands) {
+      boxes.push_back(c.box);
+      scores.push_back(c.score);
+    }
+    std::vector<int> keep;
+    cv::dnn::NMSBoxes(boxes, scores, o.confidence, o.nms_iou, keep);
+    for (int i : keep) kept.push_back(cands[i]);
+  }
+  std::sort(kept.begin(), kept.end(), [](const Candidate& a, const Candidate& b) {
+    return a.score != b.score ? a.score > b.score : a.anchor < b.anchor;  // deterministic ties
+  });
+  if (static_cast<int>(kept.size()) > o.max_instances) kept.resize(o.max_instances);
+  return kept;
+}
+
+/// Mask probabilities of the kept detections on the prototype grid: sigmoid(coeffs x protos),
+/// one row per detection.
+cv::Mat maskProbabilities(const cv::Mat& anchors, const cv::Mat& protos, const std::vector<Candidate>& kept,
+                          const YoloSegLayout& L) {
+  const int rows = 4 + L.num_classes + L.num_masks;
+  cv::Mat coeffs(static_cast<int>(kept.size()), L.num_masks, CV_32F);
+  for (size_t k = 0; k < kept.size(); ++k)
+    anchors.row(kept[k].anchor).colRange(4 + L.num_classes, rows).copyTo(coeffs.row(static_cast<int>(k)));
+  const cv::Mat proto2d(L.num_masks, L.proto_height * L.proto_width, CV_32F, const_cast<float*>(protos.ptr<float>()));
+  cv::Mat logits = coeffs * proto2d, prob;
+  cv::exp(-logits, prob);
+  prob = 1.0 / (1.0 + prob);
+  return prob;
+}
+
+}  // namespace
+
 Segmentation YoloSegmenter::segment(const cv::Mat& bgr, TimeNs t_ns) {
   const auto t0 = std::chrono::steady_clock::now();
   if (bgr.empty()) throw DataError(str("yolo segmenter: empty image at t_ns ", t_ns));
@@ -224,50 +279,13 @@ Segmentation YoloSegmenter::segment(const cv::Mat& bgr, TimeNs t_ns) {
   // One row per anchor: cx cy w h, class scores, mask coefficients (input pixels).
   cv::Mat anchors;
   cv::transpose(cv::Mat(rows, L.num_anchors, CV_32F, const_cast<float*>(det.ptr<float>())), anchors);
-
-  struct Candidate {
-    int anchor, class_id;
-    float score;
-    cv::Rect2d box;
-  };
-  std::map<int, std::vector<Candidate>> by_class;
-  for (int a = 0; a < L.num_anchors; ++a) {
-    const float* r = anchors.ptr<float>(a);
-    const float* scores = r + 4;
-    const int best = static_cast<int>(std::max_element(scores, scores + L.num_classes) - scores);
-    if (scores[best] < o.confidence) continue;
-    by_class[best].push_back({a, best, scores[best], cv::Rect2d(r[0] - 0.5 * r[2], r[1] - 0.5 * r[3], r[2], r[3])});
-  }
-  std::vector<Candidate> kept;
-  for (auto& [cls, cands] : by_class) {
-    std::vector<cv::Rect2d> boxes;
-    std::vector<float> scores;
-    for (const auto& c : cands) {
-      boxes.push_back(c.box);
-      scores.push_back(c.score);
-    }
-    std::vector<int> keep;
-    cv::dnn::NMSBoxes(boxes, scores, o.confidence, o.nms_iou, keep);
-    for (int i : keep) kept.push_back(cands[i]);
-  }
-  std::sort(kept.begin(), kept.end(), [](const Candidate& a, const Candidate& b) {
-    return a.score != b.score ? a.score > b.score : a.anchor < b.anchor;  // deterministic ties
-  });
-  if (static_cast<int>(kept.size()) > o.max_instances) kept.resize(o.max_instances);
+  const std::vector<Candidate> kept = selectDetections(anchors, L, o);
 
   Segmentation s;
   s.t_ns = t_ns;
   s.instance_ids = cv::Mat::zeros(bgr.size(), CV_16UC1);
   if (!kept.empty()) {
-    // Mask probabilities of the kept detections on the prototype grid: sigmoid(coeffs x protos).
-    cv::Mat coeffs(static_cast<int>(kept.size()), L.num_masks, CV_32F);
-    for (size_t k = 0; k < kept.size(); ++k)
-      anchors.row(kept[k].anchor).colRange(4 + L.num_classes, rows).copyTo(coeffs.row(static_cast<int>(k)));
-    const cv::Mat proto2d(L.num_masks, L.proto_height * L.proto_width, CV_32F, const_cast<float*>(protos.ptr<float>()));
-    cv::Mat logits = coeffs * proto2d, prob;
-    cv::exp(-logits, prob);
-    prob = 1.0 / (1.0 + prob);
-
+    const cv::Mat prob = maskProbabilities(anchors, protos, kept, L);
     for (size_t k = 0; k < kept.size(); ++k) {
       const Candidate& c = kept[k];
       const cv::Rect box = lb.boxToImage(c.box);

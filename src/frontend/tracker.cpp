@@ -450,6 +450,70 @@ Tracker::LocalMap Tracker::takeLocalMap() {
   return collectLocalMap();
 }
 
+namespace {
+
+/// Local-map points projected into the frame: those in view (optionally recorded in
+/// `visible`) and not matched yet, with their predicted pixels and descriptors.
+struct PointPredictions {
+  std::vector<Id> ids;
+  std::vector<PointPrediction> predictions;
+  cv::Mat desc;
+};
+
+PointPredictions predictPoints(Map* map, const std::vector<Id>& point_ids, const SE3& T_c_w,
+                               const PinholeCamera& camera, double near_plane_m, const std::set<Id>& matched,
+                               std::vector<Id>* visible) {
+  PointPredictions out;
+  out.desc.reserve(point_ids.size());
+  for (Id id : point_ids) {
+    MapPoint* p = map->point(id);
+    if (!p) continue;  // culled by the mapper since the local map was taken
+    const Eigen::Vector3d p_c = T_c_w * p->p_w;
+    if (p_c.z() < near_plane_m) continue;
+    const Eigen::Vector2d uv = camera.projectIdeal(p_c);
+    if (!camera.inImage(uv)) continue;
+    if (visible) visible->push_back(id);
+    if (matched.count(id)) continue;
+    out.ids.push_back(id);
+    out.predictions.push_back({uv, -1});
+    out.desc.push_back(p->descriptor);
+  }
+  return out;
+}
+
+/// The same for lines: each clipped to the near plane, in view when an endpoint or the
+/// midpoint projects into the image.
+struct LinePredictions {
+  std::vector<Id> ids;
+  std::vector<LineSegment2D> segments;
+  cv::Mat desc;
+};
+
+LinePredictions predictLines(Map* map, const std::vector<Id>& line_ids, const SE3& T_c_w, const PinholeCamera& camera,
+                             double near, const std::set<Id>& matched, std::vector<Id>* visible) {
+  LinePredictions out;
+  out.desc.reserve(line_ids.size());
+  for (Id id : line_ids) {
+    MapLine* l = map->line(id);
+    if (!l) continue;
+    Eigen::Vector3d P = T_c_w * l->P_w, Q = T_c_w * l->Q_w;
+    if (P.z() < near && Q.z() < near) continue;
+    // Clip the part behind the camera so the projection stays meaningful.
+    if (P.z() < near) P = Q + (P - Q) * ((Q.z() - near) / (Q.z() - P.z()));
+    if (Q.z() < near) Q = P + (Q - P) * ((P.z() - near) / (P.z() - Q.z()));
+    const Eigen::Vector2d p = camera.projectIdeal(P), q = camera.projectIdeal(Q);
+    if (!camera.inImage(p) && !camera.inImage(q) && !camera.inImage(0.5 * (p + q))) continue;
+    if (visible) visible->push_back(id);
+    if (matched.count(id)) continue;
+    out.ids.push_back(id);
+    out.segments.push_back(LineSegment2D::fromEndpoints(p, q));
+    out.desc.push_back(l->descriptor);
+  }
+  return out;
+}
+
+}  // namespace
+
 void Tracker::searchLocalMap(const LocalMap& local, const SE3& T_w_c, const FrameFeatures& f, double radius, Matches* m,
                              bool record_visible) {
   const StageTimer timer(&times_, Stage::kSearch);
@@ -457,31 +521,14 @@ void Tracker::searchLocalMap(const LocalMap& local, const SE3& T_w_c, const Fram
   if (m->point_ids.size() != f.points.size()) m->point_ids.assign(f.points.size(), kNoId);
   if (m->line_ids.size() != f.lines.size()) m->line_ids.assign(f.lines.size(), kNoId);
   if (record_visible) m->visible_points.clear(), m->visible_lines.clear();
-  const std::vector<Id>& point_ids = local.point_ids;
-  const std::vector<Id>& line_ids = local.line_ids;
   const SE3 T_c_w = T_w_c.inverse();
   // Landmarks matched in an earlier pass keep their keypoint; the rest are searched among
   // the keypoints still free.
-  std::set<Id> matched_points(m->point_ids.begin(), m->point_ids.end());
+  const std::set<Id> matched_points(m->point_ids.begin(), m->point_ids.end());
   std::vector<char> kp_taken(f.points.size());
   for (size_t k = 0; k < f.points.size(); ++k) kp_taken[k] = m->point_ids[k] != kNoId;
-  std::vector<Id> predicted_ids;
-  std::vector<PointPrediction> predictions;
-  cv::Mat predicted_desc;
-  predicted_desc.reserve(point_ids.size());
-  for (Id id : point_ids) {
-    MapPoint* p = map_->point(id);
-    if (!p) continue;  // culled by the mapper since the local map was taken
-    const Eigen::Vector3d p_c = T_c_w * p->p_w;
-    if (p_c.z() < options_.near_plane_m) continue;
-    const Eigen::Vector2d uv = camera_.projectIdeal(p_c);
-    if (!camera_.inImage(uv)) continue;
-    if (record_visible) m->visible_points.push_back(id);
-    if (matched_points.count(id)) continue;
-    predicted_ids.push_back(id);
-    predictions.push_back({uv, -1});
-    predicted_desc.push_back(p->descriptor);
-  }
+  const PointPredictions pts = predictPoints(map_, local.point_ids, T_c_w, camera_, options_.near_plane_m,
+                                             matched_points, record_visible ? &m->visible_points : nullptr);
   std::vector<Eigen::Vector2d> kp_uv;
   std::vector<int> kp_octave;
   for (const Keypoint& k : f.points) {
@@ -494,42 +541,23 @@ void Tracker::searchLocalMap(const LocalMap& local, const SE3& T_w_c, const Fram
   po.ratio = options_.ratio;
   po.octave_window = -1;
   if (record_visible && kLog.enabled(LogLevel::kDebug))
-    kLog.debug(str("search: local map ", point_ids.size(), " points ", line_ids.size(), " lines, ",
-                   m->visible_points.size(), " points in view, ", predictions.size(), " searched"));
+    kLog.debug(str("search: local map ", local.point_ids.size(), " points ", local.line_ids.size(), " lines, ",
+                   m->visible_points.size(), " points in view, ", pts.predictions.size(), " searched"));
   const PointGrid grid(kp_uv, camera_.width, camera_.height);
   for (const DescriptorMatch& dm :
-       matchPointsByProjection(predictions, predicted_desc, grid, kp_octave, f.point_descriptors, po, kp_taken))
-    m->point_ids[dm.train] = predicted_ids[dm.query];
+       matchPointsByProjection(pts.predictions, pts.desc, grid, kp_octave, f.point_descriptors, po, kp_taken))
+    m->point_ids[dm.train] = pts.ids[dm.query];
 
   if (!options_.use_lines || f.lines.empty()) return;
-  std::set<Id> matched_lines(m->line_ids.begin(), m->line_ids.end());
+  const std::set<Id> matched_lines(m->line_ids.begin(), m->line_ids.end());
   std::vector<char> line_taken(f.lines.size());
   std::vector<LineSegment2D> segments;
   for (size_t k = 0; k < f.lines.size(); ++k) {
     line_taken[k] = m->line_ids[k] != kNoId;
     segments.push_back(LineSegment2D::fromEndpoints(f.lines[k].p, f.lines[k].q));
   }
-  std::vector<Id> line_pred_ids;
-  std::vector<LineSegment2D> line_preds;
-  cv::Mat line_pred_desc;
-  line_pred_desc.reserve(line_ids.size());
-  for (Id id : line_ids) {
-    MapLine* l = map_->line(id);
-    if (!l) continue;
-    Eigen::Vector3d P = T_c_w * l->P_w, Q = T_c_w * l->Q_w;
-    const double near = options_.near_plane_m;
-    if (P.z() < near && Q.z() < near) continue;
-    // Clip the part behind the camera so the projection stays meaningful.
-    if (P.z() < near) P = Q + (P - Q) * ((Q.z() - near) / (Q.z() - P.z()));
-    if (Q.z() < near) Q = P + (Q - P) * ((P.z() - near) / (P.z() - Q.z()));
-    const Eigen::Vector2d p = camera_.projectIdeal(P), q = camera_.projectIdeal(Q);
-    if (!camera_.inImage(p) && !camera_.inImage(q) && !camera_.inImage(0.5 * (p + q))) continue;
-    if (record_visible) m->visible_lines.push_back(id);
-    if (matched_lines.count(id)) continue;
-    line_pred_ids.push_back(id);
-    line_preds.push_back(LineSegment2D::fromEndpoints(p, q));
-    line_pred_desc.push_back(l->descriptor);
-  }
+  const LinePredictions lns = predictLines(map_, local.line_ids, T_c_w, camera_, options_.near_plane_m, matched_lines,
+                                           record_visible ? &m->visible_lines : nullptr);
   LineProjectionOptions lo;
   lo.angle_deg = options_.line_angle_deg;
   // The wide first pass allows for the motion model's error.
@@ -537,8 +565,8 @@ void Tracker::searchLocalMap(const LocalMap& local, const SE3& T_w_c, const Fram
                    options_.line_distance_px * 0.5;
   lo.max_distance = options_.max_line_descriptor_distance;
   for (const DescriptorMatch& dm :
-       matchLinesByProjection(line_preds, line_pred_desc, segments, f.line_descriptors, lo, line_taken))
-    m->line_ids[dm.train] = line_pred_ids[dm.query];
+       matchLinesByProjection(lns.segments, lns.desc, segments, f.line_descriptors, lo, line_taken))
+    m->line_ids[dm.train] = lns.ids[dm.query];
 }
 
 void Tracker::countVisibleAndFound(const Matches& m, TrackingResult* r) {

@@ -143,6 +143,81 @@ const char* toString(FrameStatus status) {
   return "?";
 }
 
+namespace {
+
+/// rgb.txt and depth.txt: each colour stamp paired with the depth stamp nearest in time.
+std::vector<DatasetEntry> pairColourAndDepth(const std::string& rgb_list, const std::string& depth_list,
+                                             const DatasetOptions& options, DatasetListReport* rep) {
+  if (!fs::exists(depth_list)) throw IoError(depth_list + ": not found (a TUM folder needs rgb.txt and depth.txt)");
+  const auto rgb = readList(rgb_list, 1, {}, rep);
+  const auto depth = readList(depth_list, 1, {}, rep);
+  rep->rgb_listed = static_cast<int>(rgb.size());
+  rep->depth_listed = static_cast<int>(depth.size());
+  std::vector<TimeNs> t_rgb, t_depth;
+  for (const auto& r : rgb) t_rgb.push_back(r.t_ns);
+  for (const auto& d : depth) t_depth.push_back(d.t_ns);
+  std::vector<DatasetEntry> entries;
+  for (const StampMatch& m : associateStamps(t_rgb, t_depth, options.max_difference_s)) {
+    DatasetEntry e;
+    e.t_rgb_ns = rgb[m.first].t_ns;
+    e.t_depth_ns = depth[m.second].t_ns;
+    e.rgb_path = rgb[m.first].fields[0];
+    e.depth_path = depth[m.second].fields[0];
+    entries.push_back(e);
+  }
+  rep->rgb_unpaired = rep->rgb_listed - static_cast<int>(entries.size());
+  rep->depth_unpaired = rep->depth_listed - static_cast<int>(entries.size());
+  if (entries.empty())
+    throw IoError(str(rgb_list, " and ", depth_list, ": no colour stamp has a depth stamp within ",
+                      options.max_difference_s, " s"));
+  return entries;
+}
+
+/// associations.txt (ICL-NUIM, associate.py output), sorted by colour stamp.
+std::vector<DatasetEntry> readAssociations(const std::string& assoc_list, DatasetListReport* rep) {
+  rep->layout = DatasetListReport::Layout::kAssociations;
+  std::vector<DatasetEntry> entries;
+  for (const ListItem& item : readList(assoc_list, 3, {1}, rep)) {
+    DatasetEntry e;
+    e.t_rgb_ns = item.t_ns;
+    e.rgb_path = item.fields[0];
+    parseSecondsStamp(item.fields[1], &e.t_depth_ns);
+    e.depth_path = item.fields[2];
+    // The published ICL-NUIM archives list depth first; associate.py output lists colour first.
+    if (looksLikeDepthPath(e.rgb_path) && !looksLikeDepthPath(e.depth_path)) {
+      std::swap(e.rgb_path, e.depth_path);
+      std::swap(e.t_rgb_ns, e.t_depth_ns);
+    }
+    entries.push_back(e);
+  }
+  std::stable_sort(entries.begin(), entries.end(),
+                   [](const DatasetEntry& a, const DatasetEntry& b) { return a.t_rgb_ns < b.t_rgb_ns; });
+  rep->rgb_listed = rep->depth_listed = static_cast<int>(entries.size());
+  return entries;
+}
+
+/// masks.txt: each frame's instance mask nearest in time (within max_difference_s).
+void attachMasks(const std::string& mask_list, const DatasetOptions& options, std::vector<DatasetEntry>* entries,
+                 DatasetListReport* rep) {
+  const auto masks = readList(mask_list, 1, {}, rep);
+  rep->masks_listed = static_cast<int>(masks.size());
+  std::vector<double> t_masks;
+  for (const auto& m : masks) t_masks.push_back(stampSeconds(m.t_ns));
+  for (DatasetEntry& e : *entries) {
+    const double t = stampSeconds(e.t_rgb_ns);
+    const size_t k = findClosestIndex(t_masks, t);
+    if (std::abs(t_masks[k] - t) < options.max_difference_s) {
+      e.mask_path = masks[k].fields[0];
+    } else {
+      ++rep->frames_without_mask;
+    }
+  }
+  if (rep->frames_without_mask > 0)
+    kLog.warn(str(mask_list, ": ", rep->frames_without_mask, " frame(s) have no mask within ", options.max_difference_s, " s"));
+}
+
+}  // namespace
+
 TumDataset TumDataset::open(const std::string& dir, const PinholeCamera& camera, const DatasetOptions& options) {
   if (!fs::is_directory(dir))
     throw IoError(dir + (fs::exists(dir) ? ": not a folder" : ": dataset folder not found"));
@@ -160,49 +235,12 @@ TumDataset TumDataset::open(const std::string& dir, const PinholeCamera& camera,
   const std::string depth_list = (root / "depth.txt").string();
   const std::string assoc_list = (root / "associations.txt").string();
 
-  if (fs::exists(rgb_list)) {
-    if (!fs::exists(depth_list)) throw IoError(depth_list + ": not found (a TUM folder needs rgb.txt and depth.txt)");
-    const auto rgb = readList(rgb_list, 1, {}, &rep);
-    const auto depth = readList(depth_list, 1, {}, &rep);
-    rep.rgb_listed = static_cast<int>(rgb.size());
-    rep.depth_listed = static_cast<int>(depth.size());
-    std::vector<TimeNs> t_rgb, t_depth;
-    for (const auto& r : rgb) t_rgb.push_back(r.t_ns);
-    for (const auto& d : depth) t_depth.push_back(d.t_ns);
-    for (const StampMatch& m : associateStamps(t_rgb, t_depth, options.max_difference_s)) {
-      DatasetEntry e;
-      e.t_rgb_ns = rgb[m.first].t_ns;
-      e.t_depth_ns = depth[m.second].t_ns;
-      e.rgb_path = rgb[m.first].fields[0];
-      e.depth_path = depth[m.second].fields[0];
-      ds.entries_.push_back(e);
-    }
-    rep.rgb_unpaired = rep.rgb_listed - static_cast<int>(ds.entries_.size());
-    rep.depth_unpaired = rep.depth_listed - static_cast<int>(ds.entries_.size());
-    if (ds.entries_.empty())
-      throw IoError(str(rgb_list, " and ", depth_list, ": no colour stamp has a depth stamp within ",
-                        options.max_difference_s, " s"));
-  } else if (fs::exists(assoc_list)) {
-    rep.layout = DatasetListReport::Layout::kAssociations;
-    for (const ListItem& item : readList(assoc_list, 3, {1}, &rep)) {
-      DatasetEntry e;
-      e.t_rgb_ns = item.t_ns;
-      e.rgb_path = item.fields[0];
-      parseSecondsStamp(item.fields[1], &e.t_depth_ns);
-      e.depth_path = item.fields[2];
-      // The published ICL-NUIM archives list depth first; associate.py output lists colour first.
-      if (looksLikeDepthPath(e.rgb_path) && !looksLikeDepthPath(e.depth_path)) {
-        std::swap(e.rgb_path, e.depth_path);
-        std::swap(e.t_rgb_ns, e.t_depth_ns);
-      }
-      ds.entries_.push_back(e);
-    }
-    std::stable_sort(ds.entries_.begin(), ds.entries_.end(),
-                     [](const DatasetEntry& a, const DatasetEntry& b) { return a.t_rgb_ns < b.t_rgb_ns; });
-    rep.rgb_listed = rep.depth_listed = static_cast<int>(ds.entries_.size());
-  } else {
+  if (fs::exists(rgb_list))
+    ds.entries_ = pairColourAndDepth(rgb_list, depth_list, options, &rep);
+  else if (fs::exists(assoc_list))
+    ds.entries_ = readAssociations(assoc_list, &rep);
+  else
     throw IoError(rgb_list + ": not found (a TUM RGB-D folder needs rgb.txt and depth.txt, or associations.txt)");
-  }
 
   if (options.max_frames > 0 && ds.entries_.size() > static_cast<size_t>(options.max_frames)) {
     rep.cut_by_max_frames = static_cast<int>(ds.entries_.size()) - options.max_frames;
@@ -211,21 +249,7 @@ TumDataset TumDataset::open(const std::string& dir, const PinholeCamera& camera,
 
   const std::string mask_list = (root / "masks.txt").string();
   if (options.load_masks && fs::exists(mask_list)) {
-    const auto masks = readList(mask_list, 1, {}, &rep);
-    rep.masks_listed = static_cast<int>(masks.size());
-    std::vector<double> t_masks;
-    for (const auto& m : masks) t_masks.push_back(stampSeconds(m.t_ns));
-    for (DatasetEntry& e : ds.entries_) {
-      const double t = stampSeconds(e.t_rgb_ns);
-      const size_t k = findClosestIndex(t_masks, t);
-      if (std::abs(t_masks[k] - t) < options.max_difference_s) {
-        e.mask_path = masks[k].fields[0];
-      } else {
-        ++rep.frames_without_mask;
-      }
-    }
-    if (rep.frames_without_mask > 0)
-      kLog.warn(str(mask_list, ": ", rep.frames_without_mask, " frame(s) have no mask within ", options.max_difference_s, " s"));
+    attachMasks(mask_list, options, &ds.entries_, &rep);
     const fs::path labels = root / "masks" / "instances.txt";
     if (fs::exists(labels)) ds.instance_labels_ = readInstanceLabels(labels.string());
   }

@@ -442,73 +442,90 @@ LoadedMap loadMap(const std::string& path) {
   return parseMap(bytes, path);
 }
 
+namespace {
+
+PinholeCamera readCameraSection(const mapfile::Container& c, const std::string& file) {
+  const mapfile::Section& s = required(c, "camera", file);
+  ByteReader r(s.bytes.data(), s.bytes.size(), file, s.name);
+  PinholeCamera camera = getCamera(&r);
+  try {
+    camera.validate(file + " (camera section)");
+  } catch (const Error& e) {
+    throw DataError(e.what());
+  }
+  return camera;
+}
+
+std::map<Id, KeyFrame> readKeyframeSection(const mapfile::Container& c, const PinholeCamera& camera,
+                                           const std::string& file) {
+  std::map<Id, KeyFrame> keyframes;
+  const mapfile::Section& s = required(c, "keyframes", file);
+  ByteReader r(s.bytes.data(), s.bytes.size(), file, s.name);
+  const size_t n = r.count(kKeyframeMinBytes, "keyframes");
+  for (size_t i = 0; i < n; ++i) {
+    KeyFrame kf = getKeyframe(&r, camera);
+    if (kf.id < 0) throw DataError(file + ": keyframe with negative id " + std::to_string(kf.id));
+    checkKeyframe(kf, camera, file);
+    const Id id = kf.id;
+    if (!keyframes.emplace(id, std::move(kf)).second)
+      throw DataError(file + ": inconsistent ids: keyframe id " + std::to_string(id) + " appears twice");
+  }
+  r.expectEnd();
+  return keyframes;
+}
+
+std::map<Id, MapPoint> readPointSection(const mapfile::Container& c, const std::string& file) {
+  std::map<Id, MapPoint> points;
+  const mapfile::Section& s = required(c, "points", file);
+  ByteReader r(s.bytes.data(), s.bytes.size(), file, s.name);
+  const size_t n = r.count(kPointMinBytes, "map points");
+  for (size_t i = 0; i < n; ++i) {
+    MapPoint p;
+    p.id = r.i64();
+    p.p_w = getVec3(&r);
+    getLandmarkTail(&r, &p);
+    if (p.id < 0) throw DataError(file + ": map point with negative id " + std::to_string(p.id));
+    const Id id = p.id;
+    if (!points.emplace(id, std::move(p)).second)
+      throw DataError(file + ": inconsistent ids: map point id " + std::to_string(id) + " appears twice");
+  }
+  r.expectEnd();
+  return points;
+}
+
+std::map<Id, MapLine> readLineSection(const mapfile::Container& c, const std::string& file) {
+  std::map<Id, MapLine> lines;
+  const mapfile::Section& s = required(c, "lines", file);
+  ByteReader r(s.bytes.data(), s.bytes.size(), file, s.name);
+  const size_t n = r.count(kLineMinBytes, "map lines");
+  for (size_t i = 0; i < n; ++i) {
+    MapLine l;
+    l.id = r.i64();
+    l.P_w = getVec3(&r);
+    l.Q_w = getVec3(&r);
+    getLandmarkTail(&r, &l);
+    if (l.id < 0) throw DataError(file + ": map line with negative id " + std::to_string(l.id));
+    const Id id = l.id;
+    if (!lines.emplace(id, std::move(l)).second)
+      throw DataError(file + ": inconsistent ids: map line id " + std::to_string(id) + " appears twice");
+  }
+  r.expectEnd();
+  return lines;
+}
+
+}  // namespace
+
 LoadedMap parseMap(const std::string& bytes, const std::string& file) {
   const mapfile::Container c = mapfile::unpackContainer(bytes, file);
   LoadedMap out;
   out.writer = c.writer;
-  {
-    const mapfile::Section& s = required(c, "camera", file);
-    ByteReader r(s.bytes.data(), s.bytes.size(), file, s.name);
-    out.camera = getCamera(&r);
-    try {
-      out.camera.validate(file + " (camera section)");
-    } catch (const Error& e) {
-      throw DataError(e.what());
-    }
-  }
+  out.camera = readCameraSection(c, file);
   out.config_yaml = required(c, "config", file).bytes;
   if (const mapfile::Section* s = c.find("map_frame")) out.frame = parseMapFrameYaml(s->bytes, file + " (map_frame section)");
 
-  std::map<Id, KeyFrame> keyframes;
-  std::map<Id, MapPoint> points;
-  std::map<Id, MapLine> lines;
-  {
-    const mapfile::Section& s = required(c, "keyframes", file);
-    ByteReader r(s.bytes.data(), s.bytes.size(), file, s.name);
-    const size_t n = r.count(kKeyframeMinBytes, "keyframes");
-    for (size_t i = 0; i < n; ++i) {
-      KeyFrame kf = getKeyframe(&r, out.camera);
-      if (kf.id < 0) throw DataError(file + ": keyframe with negative id " + std::to_string(kf.id));
-      checkKeyframe(kf, out.camera, file);
-      const Id id = kf.id;
-      if (!keyframes.emplace(id, std::move(kf)).second)
-        throw DataError(file + ": inconsistent ids: keyframe id " + std::to_string(id) + " appears twice");
-    }
-    r.expectEnd();
-  }
-  {
-    const mapfile::Section& s = required(c, "points", file);
-    ByteReader r(s.bytes.data(), s.bytes.size(), file, s.name);
-    const size_t n = r.count(kPointMinBytes, "map points");
-    for (size_t i = 0; i < n; ++i) {
-      MapPoint p;
-      p.id = r.i64();
-      p.p_w = getVec3(&r);
-      getLandmarkTail(&r, &p);
-      if (p.id < 0) throw DataError(file + ": map point with negative id " + std::to_string(p.id));
-      const Id id = p.id;
-      if (!points.emplace(id, std::move(p)).second)
-        throw DataError(file + ": inconsistent ids: map point id " + std::to_string(id) + " appears twice");
-    }
-    r.expectEnd();
-  }
-  {
-    const mapfile::Section& s = required(c, "lines", file);
-    ByteReader r(s.bytes.data(), s.bytes.size(), file, s.name);
-    const size_t n = r.count(kLineMinBytes, "map lines");
-    for (size_t i = 0; i < n; ++i) {
-      MapLine l;
-      l.id = r.i64();
-      l.P_w = getVec3(&r);
-      l.Q_w = getVec3(&r);
-      getLandmarkTail(&r, &l);
-      if (l.id < 0) throw DataError(file + ": map line with negative id " + std::to_string(l.id));
-      const Id id = l.id;
-      if (!lines.emplace(id, std::move(l)).second)
-        throw DataError(file + ": inconsistent ids: map line id " + std::to_string(id) + " appears twice");
-    }
-    r.expectEnd();
-  }
+  std::map<Id, KeyFrame> keyframes = readKeyframeSection(c, out.camera, file);
+  std::map<Id, MapPoint> points = readPointSection(c, file);
+  std::map<Id, MapLine> lines = readLineSection(c, file);
   if (static_cast<int64_t>(keyframes.size()) != c.keyframes || static_cast<int64_t>(points.size()) != c.points ||
       static_cast<int64_t>(lines.size()) != c.lines)
     throw DataError(file + ": the header's counts (" + std::to_string(c.keyframes) + " keyframes, " +

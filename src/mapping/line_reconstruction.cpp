@@ -188,6 +188,113 @@ LineFitStatus plausibility(const Eigen::Vector3d& P, const Eigen::Vector3d& Q, c
   return LineFitStatus::kOk;
 }
 
+/// 3D points along a segment with their inlier tolerances and PCA weights (1 / tolerance^2).
+struct DepthSamples {
+  int n = 0;  ///< samples tried
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<double> tol, weight;
+  int valid() const { return static_cast<int>(pts.size()); }
+
+  /// The inliers of `line` (distance within the tolerance) and the truncated cost.
+  void inliersOf(const Line3& line, std::vector<int>* idx, double* cost) const {
+    idx->clear();
+    *cost = 0;
+    for (int i = 0; i < valid(); ++i) {
+      const double dist = line.distance(pts[i]);
+      if (dist <= tol[i]) {
+        idx->push_back(i);
+        *cost += dist / tol[i];
+      } else {
+        *cost += 1.0;
+      }
+    }
+  }
+};
+
+/// 1-2. Samples along the ideal segment p-q, depth looked up at the raw pixel.
+DepthSamples sampleSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& p_raw,
+                           const Eigen::Vector2d& q_raw, double len_px, const cv::Mat& depth_m,
+                           const PinholeCamera& cam, const LineFitOptions& o) {
+  DepthSamples smp;
+  const int n = std::clamp(static_cast<int>(len_px / o.sample_step_px) + 1, 2, o.max_samples);
+  smp.n = n;
+  Eigen::Vector2d perp(-(q_raw - p_raw).y(), (q_raw - p_raw).x());
+  if (perp.norm() > 0) perp.normalize();
+  smp.pts.reserve(n);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d uv = p + (q - p) * (static_cast<double>(i) / (n - 1));
+    const float z = sampleDepth(depth_m, cam.distort(uv), perp, o);
+    if (!std::isfinite(z)) continue;
+    smp.pts.push_back(cam.unprojectIdeal(uv, z));
+    smp.tol.push_back(o.tolerance(z));
+    smp.weight.push_back(1.0 / (smp.tol.back() * smp.tol.back()));
+  }
+  return smp;
+}
+
+/// 3. Exhaustive RANSAC over well-separated pairs: most inliers, then lowest truncated cost.
+/// Returns the best inlier count (-1: no pair).
+int ransacLine(const DepthSamples& smp, Line3* best) {
+  const std::vector<Eigen::Vector3d>& pts = smp.pts;
+  const int nv = smp.valid();
+  const int min_gap = std::max(1, nv / 3);
+  *best = Line3{pts[0], Eigen::Vector3d::UnitZ()};
+  int best_count = -1;
+  double best_cost = 0;
+  std::vector<int> idx;
+  for (int i = 0; i < nv && best_count < nv; ++i) {
+    for (int j = i + min_gap; j < nv; ++j) {
+      const Eigen::Vector3d d = pts[j] - pts[i];
+      if (d.norm() < 1e-6) continue;
+      const Line3 cand{pts[i], d.normalized()};
+      double cost;
+      smp.inliersOf(cand, &idx, &cost);
+      const int count = static_cast<int>(idx.size());
+      if (count > best_count || (count == best_count && cost < best_cost)) {
+        *best = cand;
+        best_count = count;
+        best_cost = cost;
+        if (best_count == nv) break;
+      }
+    }
+  }
+  return best_count;
+}
+
+/// 4. Weighted PCA refits with inlier re-selection; `idx` ends as the final inlier set.
+Line3 refitLine(const DepthSamples& smp, const Line3& start, int needed, int refit_iterations, std::vector<int>* idx) {
+  double cost;
+  smp.inliersOf(start, idx, &cost);
+  Line3 line = fitPca(smp.pts, smp.weight, *idx);
+  for (int it = 0; it < refit_iterations; ++it) {
+    std::vector<int> next;
+    smp.inliersOf(line, &next, &cost);
+    if (static_cast<int>(next.size()) < needed) break;  // keep the previous inlier set
+    const bool same = next == *idx;
+    *idx = std::move(next);
+    line = fitPca(smp.pts, smp.weight, *idx);
+    if (same) break;
+  }
+  return line;
+}
+
+/// The inliers' extent along the line (parameters s_lo..s_hi) and RMS distance from it.
+struct InlierExtent {
+  double s_lo = 0, s_hi = 0, rms = 0;
+};
+
+InlierExtent inlierExtent(const DepthSamples& smp, const Line3& line, const std::vector<int>& idx) {
+  const int count = static_cast<int>(idx.size());
+  double s_lo = std::numeric_limits<double>::infinity(), s_hi = -s_lo, sq = 0;
+  for (int i : idx) {
+    const double s = (smp.pts[i] - line.c).dot(line.d);
+    s_lo = std::min(s_lo, s);
+    s_hi = std::max(s_hi, s);
+    sq += std::pow(line.distance(smp.pts[i]), 2);
+  }
+  return {s_lo, s_hi, std::sqrt(sq / std::max(count, 1))};
+}
+
 }  // namespace
 
 std::optional<LineSegment3D> fitLine3D(const Eigen::Vector2d& p_raw, const Eigen::Vector2d& q_raw,
@@ -199,95 +306,29 @@ std::optional<LineSegment3D> fitLine3D(const Eigen::Vector2d& p_raw, const Eigen
   const double len_px = (q - p).norm();
   if (!(len_px >= o.min_segment_px) || len_px <= 0) return reject(diag, LineFitStatus::kSegmentTooShort);
 
-  // 1-2. Samples along the ideal segment, depth looked up at the raw pixel.
-  const int n = std::clamp(static_cast<int>(len_px / o.sample_step_px) + 1, 2, o.max_samples);
-  Eigen::Vector2d perp(-(q_raw - p_raw).y(), (q_raw - p_raw).x());
-  if (perp.norm() > 0) perp.normalize();
-  std::vector<Eigen::Vector3d> pts;
-  std::vector<double> tol, weight;
-  pts.reserve(n);
-  for (int i = 0; i < n; ++i) {
-    const Eigen::Vector2d uv = p + (q - p) * (static_cast<double>(i) / (n - 1));
-    const float z = sampleDepth(depth_m, cam.distort(uv), perp, o);
-    if (!std::isfinite(z)) continue;
-    pts.push_back(cam.unprojectIdeal(uv, z));
-    tol.push_back(o.tolerance(z));
-    weight.push_back(1.0 / (tol.back() * tol.back()));
-  }
-  const int nv = static_cast<int>(pts.size());
+  const DepthSamples smp = sampleSegment(p, q, p_raw, q_raw, len_px, depth_m, cam, o);
+  const int nv = smp.valid();
   if (diag) {
-    diag->samples = n;
+    diag->samples = smp.n;
     diag->valid_samples = nv;
   }
   if (nv < std::max(o.min_inliers, 2)) return reject(diag, LineFitStatus::kTooFewDepthSamples);
   const int needed = std::max(o.min_inliers, static_cast<int>(std::ceil(o.min_inlier_ratio * nv - 1e-9)));
 
-  auto inliersOf = [&](const Line3& line, std::vector<int>* idx, double* cost) {
-    idx->clear();
-    *cost = 0;
-    for (int i = 0; i < nv; ++i) {
-      const double dist = line.distance(pts[i]);
-      if (dist <= tol[i]) {
-        idx->push_back(i);
-        *cost += dist / tol[i];
-      } else {
-        *cost += 1.0;
-      }
-    }
-  };
-
-  // 3. Exhaustive RANSAC over well-separated pairs: most inliers, then lowest truncated cost.
-  const int min_gap = std::max(1, nv / 3);
-  Line3 best{pts[0], Eigen::Vector3d::UnitZ()};
-  int best_count = -1;
-  double best_cost = 0;
-  std::vector<int> idx;
-  for (int i = 0; i < nv && best_count < nv; ++i) {
-    for (int j = i + min_gap; j < nv; ++j) {
-      const Eigen::Vector3d d = pts[j] - pts[i];
-      if (d.norm() < 1e-6) continue;
-      const Line3 cand{pts[i], d.normalized()};
-      double cost;
-      inliersOf(cand, &idx, &cost);
-      const int count = static_cast<int>(idx.size());
-      if (count > best_count || (count == best_count && cost < best_cost)) {
-        best = cand;
-        best_count = count;
-        best_cost = cost;
-        if (best_count == nv) break;
-      }
-    }
-  }
+  Line3 best;
+  const int best_count = ransacLine(smp, &best);
   if (best_count < needed) {
     if (diag) diag->inliers = std::max(best_count, 0);
     return reject(diag, LineFitStatus::kTooFewInliers);
   }
 
-  // 4. Weighted PCA refits with inlier re-selection.
-  double cost;
-  inliersOf(best, &idx, &cost);
-  Line3 line = fitPca(pts, weight, idx);
-  for (int it = 0; it < o.refit_iterations; ++it) {
-    std::vector<int> next;
-    inliersOf(line, &next, &cost);
-    if (static_cast<int>(next.size()) < needed) break;  // keep the previous inlier set
-    const bool same = next == idx;
-    idx = std::move(next);
-    line = fitPca(pts, weight, idx);
-    if (same) break;
-  }
+  std::vector<int> idx;
+  const Line3 line = refitLine(smp, best, needed, o.refit_iterations, &idx);
   const int count = static_cast<int>(idx.size());
-  double s_lo = std::numeric_limits<double>::infinity(), s_hi = -s_lo, sq = 0;
-  for (int i : idx) {
-    const double s = (pts[i] - line.c).dot(line.d);
-    s_lo = std::min(s_lo, s);
-    s_hi = std::max(s_hi, s);
-    sq += std::pow(line.distance(pts[i]), 2);
-  }
-  const double rms = std::sqrt(sq / std::max(count, 1));
+  const InlierExtent ext = inlierExtent(smp, line, idx);
   if (diag) {
     diag->inliers = count;
-    diag->rms_m = rms;
+    diag->rms_m = ext.rms;
   }
   if (count < needed) return reject(diag, LineFitStatus::kTooFewInliers);
 
@@ -296,15 +337,15 @@ std::optional<LineSegment3D> fitLine3D(const Eigen::Vector2d& p_raw, const Eigen
   const double min_sin = std::sin(o.min_view_angle_deg * M_PI / 180.0);
   if (sinAngle(line.d, ray_p) < min_sin || sinAngle(line.d, ray_q) < min_sin)
     return reject(diag, LineFitStatus::kDegenerateViewingRay);
-  const double margin = o.max_extrapolation * (s_hi - s_lo);
-  const double sp = std::clamp(closestOnLineToRay(line, ray_p), s_lo - margin, s_hi + margin);
-  const double sq_end = std::clamp(closestOnLineToRay(line, ray_q), s_lo - margin, s_hi + margin);
+  const double margin = o.max_extrapolation * (ext.s_hi - ext.s_lo);
+  const double sp = std::clamp(closestOnLineToRay(line, ray_p), ext.s_lo - margin, ext.s_hi + margin);
+  const double sq_end = std::clamp(closestOnLineToRay(line, ray_q), ext.s_lo - margin, ext.s_hi + margin);
 
   LineSegment3D seg;
   seg.P_c = line.c + sp * line.d;
   seg.Q_c = line.c + sq_end * line.d;
   seg.inliers = count;
-  seg.rms_m = rms;
+  seg.rms_m = ext.rms;
   if (const LineFitStatus st = plausibility(seg.P_c, seg.Q_c, o); st != LineFitStatus::kOk) return reject(diag, st);
   return seg;
 }

@@ -11,7 +11,146 @@ namespace plslam {
 
 namespace {
 const Logger kLog("mapping");
+
+/// A local bundle-adjustment problem and the map ids of its keyframes, points and lines
+/// (indexed as in the problem).
+struct LocalWindow {
+  BundleProblem problem;
+  std::vector<Id> kf_ids, point_ids, line_ids;
+  std::map<Id, int> kf_index;
+};
+
+/// The free keyframes (`keyframe` and its best covisible ones) and every landmark they observe.
+void addFreeKeyframesAndLandmarks(Map* map, Id keyframe, const LocalMapperOptions& options, LocalWindow* w) {
+  BundleProblem& problem = w->problem;
+  std::vector<Id> free_kfs{keyframe};
+  for (const auto& [id, shared] : map->covisible(keyframe, options.min_covisible_points)) {
+    if (static_cast<int>(free_kfs.size()) >= options.ba_keyframes) break;
+    free_kfs.push_back(id);
+  }
+  std::map<Id, int> pt_index, ln_index;
+  for (Id id : free_kfs) {
+    w->kf_index[id] = static_cast<int>(problem.keyframes.size());
+    w->kf_ids.push_back(id);
+    problem.keyframes.push_back({map->keyframe(id)->T_w_c, false});
+  }
+  // The first keyframe anchors the world frame.
+  if (w->kf_index.count(map->keyframes().begin()->first))
+    problem.keyframes[w->kf_index[map->keyframes().begin()->first]].fixed = true;
+  for (Id id : free_kfs) {
+    const KeyFrame* kf = map->keyframe(id);
+    for (Id p : kf->point_ids)
+      if (p != kNoId && !pt_index.count(p)) {
+        pt_index[p] = static_cast<int>(problem.points.size());
+        w->point_ids.push_back(p);
+        problem.points.push_back({map->point(p)->p_w, false});
+      }
+    if (options.use_lines)
+      for (Id l : kf->line_ids)
+        if (l != kNoId && !ln_index.count(l)) {
+          ln_index[l] = static_cast<int>(problem.lines.size());
+          w->line_ids.push_back(l);
+          const MapLine* ml = map->line(l);
+          problem.lines.push_back({ml->P_w, ml->Q_w, false});
+        }
+  }
 }
+
+/// The problem index of keyframe `id`; a keyframe outside the window joins it as a fixed one
+/// while there are fewer than ba_fixed_keyframes + 1 fixed ones, else -1 (its observations are left out).
+int windowKeyframeIndex(Map* map, Id id, const LocalMapperOptions& options, LocalWindow* w) {
+  auto it = w->kf_index.find(id);
+  if (it != w->kf_index.end()) return it->second;
+  int fixed = 0;
+  for (const auto& k : w->problem.keyframes) fixed += k.fixed;
+  if (fixed >= options.ba_fixed_keyframes + 1) return -1;
+  w->kf_index[id] = static_cast<int>(w->problem.keyframes.size());
+  w->kf_ids.push_back(id);
+  w->problem.keyframes.push_back({map->keyframe(id)->T_w_c, true});
+  return w->kf_index[id];
+}
+
+/// Every observation of the window's landmarks (from keyframes in the window or joining it).
+void addObservations(Map* map, const LocalMapperOptions& options, LocalWindow* w) {
+  for (size_t i = 0; i < w->point_ids.size(); ++i) {
+    for (const auto& [kf, idx] : map->point(w->point_ids[i])->observations) {
+      const int k = windowKeyframeIndex(map, kf, options, w);
+      if (k < 0) continue;
+      const Keypoint& kp = map->keyframe(kf)->features.points[idx];
+      w->problem.point_obs.push_back({k, static_cast<int>(i), kp.uv, kp.octave, kp.depth_m});
+    }
+  }
+  for (size_t i = 0; i < w->line_ids.size(); ++i) {
+    for (const auto& [kf, idx] : map->line(w->line_ids[i])->observations) {
+      const int k = windowKeyframeIndex(map, kf, options, w);
+      if (k < 0) continue;
+      const Segment2D& s = map->keyframe(kf)->features.lines[idx];
+      w->problem.line_obs.push_back({k, static_cast<int>(i), s.p, s.q, s.octave});
+    }
+  }
+}
+
+/// The local window around `keyframe`; call with the map locked.
+LocalWindow gatherLocalWindow(Map* map, Id keyframe, const LocalMapperOptions& options) {
+  LocalWindow w;
+  addFreeKeyframesAndLandmarks(map, keyframe, options, &w);
+  addObservations(map, options, &w);
+  // Nothing holds a window whose keyframes share no landmark with the rest of the map
+  // (the first ones after the tracker re-anchored, tracker.h): its oldest keyframe does.
+  auto& kfs = w.problem.keyframes;
+  if (std::none_of(kfs.begin(), kfs.end(), [](const auto& k) { return k.fixed; }))
+    kfs[std::min_element(w.kf_ids.begin(), w.kf_ids.end()) - w.kf_ids.begin()].fixed = true;
+  return w;
+}
+
+/// The adjusted poses (of the free keyframes) and landmarks into the map; call with the map locked.
+void writeBack(Map* map, const LocalWindow& w, const BundleResult& r) {
+  for (size_t k = 0; k < w.kf_ids.size(); ++k)
+    if (!w.problem.keyframes[k].fixed)
+      if (KeyFrame* kf = map->keyframe(w.kf_ids[k])) kf->T_w_c = r.T_w_c[k];
+  for (size_t i = 0; i < w.point_ids.size(); ++i)
+    if (MapPoint* p = map->point(w.point_ids[i])) p->p_w = r.points[i];
+  for (size_t i = 0; i < w.line_ids.size(); ++i)
+    if (MapLine* l = map->line(w.line_ids[i])) {
+      l->P_w = r.lines[i].first;
+      l->Q_w = r.lines[i].second;
+    }
+}
+
+/// Outlying observations are dropped (the landmark stays if others support it); call with the map locked.
+void dropOutlierObservations(Map* map, const LocalWindow& w, const BundleResult& r) {
+  for (size_t o = 0; o < w.problem.point_obs.size(); ++o) {
+    if (!r.point_obs_outlier[o]) continue;
+    const auto& obs = w.problem.point_obs[o];
+    MapPoint* p = map->point(w.point_ids[obs.point]);
+    KeyFrame* kf = map->keyframe(w.kf_ids[obs.keyframe]);
+    if (!p || !kf) continue;
+    auto it = p->observations.find(kf->id);
+    if (it == p->observations.end()) continue;
+    kf->point_ids[it->second] = kNoId;
+    p->observations.erase(it);
+    if (p->observations.empty()) map->erasePoint(p->id);
+  }
+  for (size_t o = 0; o < w.problem.line_obs.size(); ++o) {
+    if (!r.line_obs_outlier[o]) continue;
+    const auto& obs = w.problem.line_obs[o];
+    MapLine* l = map->line(w.line_ids[obs.line]);
+    KeyFrame* kf = map->keyframe(w.kf_ids[obs.keyframe]);
+    if (!l || !kf) continue;
+    auto it = l->observations.find(kf->id);
+    if (it == l->observations.end()) continue;
+    kf->line_ids[it->second] = kNoId;
+    l->observations.erase(it);
+    if (l->observations.empty()) map->eraseLine(l->id);
+  }
+}
+
+// Validated before anything is built from them, so that errors name the `mapper.` key.
+const LocalMapperOptions& validated(const LocalMapperOptions& o) {
+  o.validate();
+  return o;
+}
+}  // namespace
 
 void LocalMapperOptions::validate() const {
   auto require = [](bool ok, const char* key, const std::string& range, double value) {
@@ -28,14 +167,6 @@ void LocalMapperOptions::validate() const {
   require(ba.max_time_s >= 0, "ba_max_time_s", ">= 0 (0: no budget)", ba.max_time_s);
   require(ba.model.depth_sigma_coeff > 0, "depth_sigma_coeff", "> 0", ba.model.depth_sigma_coeff);
 }
-
-namespace {
-// Validated before anything is built from them, so that errors name the `mapper.` key.
-const LocalMapperOptions& validated(const LocalMapperOptions& o) {
-  o.validate();
-  return o;
-}
-}  // namespace
 
 LocalMapper::LocalMapper(Map* map, PinholeCamera camera, LocalMapperOptions options)
     : map_(map), camera_(std::move(camera)), options_(validated(options)), adjuster_(options_.ba) {}
@@ -86,77 +217,16 @@ void LocalMapper::createLines(Id keyframe, const cv::Mat& depth_m) {
 }
 
 void LocalMapper::localBundleAdjustment(Id keyframe) {
-  BundleProblem problem;
-  std::vector<Id> kf_ids, point_ids, line_ids;
+  LocalWindow window;
   uint64_t corrections = 0;
   {
     std::lock_guard<std::mutex> lock(map_->mutex());
     if (!map_->keyframe(keyframe)) return;
     corrections = map_->corrections();
-    std::vector<Id> free_kfs{keyframe};
-    for (const auto& [id, shared] : map_->covisible(keyframe, options_.min_covisible_points)) {
-      if (static_cast<int>(free_kfs.size()) >= options_.ba_keyframes) break;
-      free_kfs.push_back(id);
-    }
-    std::map<Id, int> kf_index, pt_index, ln_index;
-    for (Id id : free_kfs) {
-      kf_index[id] = static_cast<int>(problem.keyframes.size());
-      kf_ids.push_back(id);
-      problem.keyframes.push_back({map_->keyframe(id)->T_w_c, false});
-    }
-    // The first keyframe anchors the world frame.
-    if (kf_index.count(map_->keyframes().begin()->first)) problem.keyframes[kf_index[map_->keyframes().begin()->first]].fixed = true;
-    for (Id id : free_kfs) {
-      const KeyFrame* kf = map_->keyframe(id);
-      for (Id p : kf->point_ids)
-        if (p != kNoId && !pt_index.count(p)) {
-          pt_index[p] = static_cast<int>(problem.points.size());
-          point_ids.push_back(p);
-          problem.points.push_back({map_->point(p)->p_w, false});
-        }
-      if (options_.use_lines)
-        for (Id l : kf->line_ids)
-          if (l != kNoId && !ln_index.count(l)) {
-            ln_index[l] = static_cast<int>(problem.lines.size());
-            line_ids.push_back(l);
-            const MapLine* ml = map_->line(l);
-            problem.lines.push_back({ml->P_w, ml->Q_w, false});
-          }
-    }
-    auto keyframeIndex = [&](Id id) -> int {
-      auto it = kf_index.find(id);
-      if (it != kf_index.end()) return it->second;
-      int fixed = 0;
-      for (const auto& k : problem.keyframes) fixed += k.fixed;
-      if (fixed >= options_.ba_fixed_keyframes + 1) return -1;
-      kf_index[id] = static_cast<int>(problem.keyframes.size());
-      kf_ids.push_back(id);
-      problem.keyframes.push_back({map_->keyframe(id)->T_w_c, true});
-      return kf_index[id];
-    };
-    for (size_t i = 0; i < point_ids.size(); ++i) {
-      for (const auto& [kf, idx] : map_->point(point_ids[i])->observations) {
-        const int k = keyframeIndex(kf);
-        if (k < 0) continue;
-        const Keypoint& kp = map_->keyframe(kf)->features.points[idx];
-        problem.point_obs.push_back({k, static_cast<int>(i), kp.uv, kp.octave, kp.depth_m});
-      }
-    }
-    for (size_t i = 0; i < line_ids.size(); ++i) {
-      for (const auto& [kf, idx] : map_->line(line_ids[i])->observations) {
-        const int k = keyframeIndex(kf);
-        if (k < 0) continue;
-        const Segment2D& s = map_->keyframe(kf)->features.lines[idx];
-        problem.line_obs.push_back({k, static_cast<int>(i), s.p, s.q, s.octave});
-      }
-    }
-    // Nothing holds a window whose keyframes share no landmark with the rest of the map
-    // (the first ones after the tracker re-anchored, tracker.h): its oldest keyframe does.
-    if (std::none_of(problem.keyframes.begin(), problem.keyframes.end(), [](const auto& k) { return k.fixed; }))
-      problem.keyframes[std::min_element(kf_ids.begin(), kf_ids.end()) - kf_ids.begin()].fixed = true;
+    window = gatherLocalWindow(map_, keyframe, options_);
   }
-  if (problem.point_obs.empty()) return;
-  const BundleResult r = adjuster_.adjust(camera_, problem);
+  if (window.problem.point_obs.empty()) return;
+  const BundleResult r = adjuster_.adjust(camera_, window.problem);
   ++stats_.ba_runs;
   stats_.ba_ms.push_back(r.time_ms);
   if (!r.ok()) {
@@ -166,45 +236,11 @@ void LocalMapper::localBundleAdjustment(Id keyframe) {
   std::lock_guard<std::mutex> lock(map_->mutex());
   // A loop correction landed while this BA ran (on the loop thread): its absolute result
   // would undo the correction; it is dropped, the next keyframe's BA works on the moved map.
-  if (map_->corrections() == corrections) {
-    for (size_t k = 0; k < kf_ids.size(); ++k)
-      if (!problem.keyframes[k].fixed)
-        if (KeyFrame* kf = map_->keyframe(kf_ids[k])) kf->T_w_c = r.T_w_c[k];
-    for (size_t i = 0; i < point_ids.size(); ++i)
-      if (MapPoint* p = map_->point(point_ids[i])) p->p_w = r.points[i];
-    for (size_t i = 0; i < line_ids.size(); ++i)
-      if (MapLine* l = map_->line(line_ids[i])) {
-        l->P_w = r.lines[i].first;
-        l->Q_w = r.lines[i].second;
-      }
-  } else {
+  if (map_->corrections() == corrections)
+    writeBack(map_, window, r);
+  else
     ++stats_.ba_dropped;
-  }
-  // Outlying observations are dropped (the landmark stays if others support it).
-  for (size_t o = 0; o < problem.point_obs.size(); ++o) {
-    if (!r.point_obs_outlier[o]) continue;
-    const auto& obs = problem.point_obs[o];
-    MapPoint* p = map_->point(point_ids[obs.point]);
-    KeyFrame* kf = map_->keyframe(kf_ids[obs.keyframe]);
-    if (!p || !kf) continue;
-    auto it = p->observations.find(kf->id);
-    if (it == p->observations.end()) continue;
-    kf->point_ids[it->second] = kNoId;
-    p->observations.erase(it);
-    if (p->observations.empty()) map_->erasePoint(p->id);
-  }
-  for (size_t o = 0; o < problem.line_obs.size(); ++o) {
-    if (!r.line_obs_outlier[o]) continue;
-    const auto& obs = problem.line_obs[o];
-    MapLine* l = map_->line(line_ids[obs.line]);
-    KeyFrame* kf = map_->keyframe(kf_ids[obs.keyframe]);
-    if (!l || !kf) continue;
-    auto it = l->observations.find(kf->id);
-    if (it == l->observations.end()) continue;
-    kf->line_ids[it->second] = kNoId;
-    l->observations.erase(it);
-    if (l->observations.empty()) map_->eraseLine(l->id);
-  }
+  dropOutlierObservations(map_, window, r);
 }
 
 void LocalMapper::cull(Id keyframe) {

@@ -110,6 +110,33 @@ uint32_t get32(const std::vector<uint8_t>& d, size_t* pos, const std::string& so
   return v;
 }
 
+/// Every descriptor row of every image, with the image it came from.
+void collectDescriptors(const std::vector<cv::Mat>& images, std::vector<Descriptor>* all, std::vector<int>* image_of) {
+  for (size_t i = 0; i < images.size(); ++i) {
+    const cv::Mat& m = images[i];
+    if (m.empty()) continue;
+    if (m.type() != CV_8U || m.cols != 32) throw DataError(str("vocabulary training: image ", i, " has descriptors that are not 32-byte CV_8U rows"));
+    for (int r = 0; r < m.rows; ++r) {
+      Descriptor d;
+      std::memcpy(d.data(), m.ptr<uint8_t>(r), 32);
+      all->push_back(d);
+      image_of->push_back(static_cast<int>(i));
+    }
+  }
+  if (all->empty()) throw DataError("vocabulary training: no descriptors");
+}
+
+/// Per word ln(N / images containing it) (at least one image counted).
+std::vector<float> idfWeights(const std::vector<std::set<int>>& images_of_word, size_t image_count) {
+  const double n_images = static_cast<double>(image_count);
+  std::vector<float> idf(images_of_word.size());
+  for (size_t w = 0; w < images_of_word.size(); ++w) {
+    const double ni = std::max<size_t>(1, images_of_word[w].size());
+    idf[w] = static_cast<float>(std::log(n_images / ni));
+  }
+  return idf;
+}
+
 }  // namespace
 
 double bowScore(const BowVector& a, const BowVector& b) {
@@ -133,18 +160,7 @@ Vocabulary Vocabulary::train(const std::vector<cv::Mat>& images, const Vocabular
                           ", levels ", options.levels, ")"));
   std::vector<Descriptor> all;
   std::vector<int> image_of;
-  for (size_t i = 0; i < images.size(); ++i) {
-    const cv::Mat& m = images[i];
-    if (m.empty()) continue;
-    if (m.type() != CV_8U || m.cols != 32) throw DataError(str("vocabulary training: image ", i, " has descriptors that are not 32-byte CV_8U rows"));
-    for (int r = 0; r < m.rows; ++r) {
-      Descriptor d;
-      std::memcpy(d.data(), m.ptr<uint8_t>(r), 32);
-      all.push_back(d);
-      image_of.push_back(static_cast<int>(i));
-    }
-  }
-  if (all.empty()) throw DataError("vocabulary training: no descriptors");
+  collectDescriptors(images, &all, &image_of);
 
   Vocabulary v;
   v.k_ = options.k;
@@ -199,11 +215,8 @@ Vocabulary Vocabulary::train(const std::vector<cv::Mat>& images, const Vocabular
   for (size_t n = 0; n < v.nodes_.size(); ++n)
     if (v.nodes_[n].word >= 0)
       for (int m : leaf_members[n]) images_of_word[v.nodes_[n].word].insert(image_of[m]);
-  const double n_images = static_cast<double>(images.size());
-  for (size_t w = 0; w < v.word_nodes_.size(); ++w) {
-    const double ni = std::max<size_t>(1, images_of_word[w].size());
-    v.nodes_[v.word_nodes_[w]].weight = static_cast<float>(std::log(n_images / ni));
-  }
+  const std::vector<float> idf = idfWeights(images_of_word, images.size());
+  for (size_t w = 0; w < v.word_nodes_.size(); ++w) v.nodes_[v.word_nodes_[w]].weight = idf[w];
   kLog.info(str("vocabulary trained: ", all.size(), " descriptors of ", images.size(), " images, ", v.words(),
                 " words (k ", options.k, ", levels ", options.levels, ")"));
   return v;

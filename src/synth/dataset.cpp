@@ -56,24 +56,13 @@ cv::Vec3b instanceColour(int id) {
   return kColours[(id - 1) % 6];
 }
 
-}  // namespace
-
-void writeDataset(const Scene& scene, const std::string& dir, const DatasetOptions& options) {
-  if (options.png_compression < 0 || options.png_compression > 9)
-    throw ConfigError(str("synthetic dataset: png_compression must be 0..9, got ", options.png_compression));
-  const fs::path root(dir);
-  makeDir(root / "rgb");
-  makeDir(root / "depth");
-  if (options.write_masks) makeDir(root / "masks");
+/// Renders and writes every frame's images, on options.threads threads; the first failure
+/// stops the others and is rethrown. Returns each frame's exposure row (fast scene).
+std::vector<std::string> renderFrames(const Scene& scene, const fs::path& root, const std::vector<std::string>& stamps,
+                                      const std::vector<std::string>& depth_stamps, const DatasetOptions& options) {
   const int n = scene.frameCount();
-  std::vector<std::string> stamps(n), depth_stamps(n);
-  for (int i = 0; i < n; ++i) {
-    stamps[i] = formatSecondsStamp(scene.frameTime(i));
-    depth_stamps[i] = formatSecondsStamp(scene.frameTime(i) + options.depth_offset_ns);
-  }
   const double scale = scene.camera().depth_scale;
   std::vector<std::string> exposure_rows(n);  // fast scene: what the colour of each frame went through
-
   std::atomic<int> next{0}, done{0};
   std::mutex mutex;
   std::exception_ptr failure;
@@ -111,6 +100,45 @@ void writeDataset(const Scene& scene, const std::string& dir, const DatasetOptio
     for (auto& t : pool) t.join();
   }
   if (failure) std::rethrow_exception(failure);
+  return exposure_rows;
+}
+
+/// masks/instances.txt and masks.txt.
+void writeMaskFiles(const Scene& scene, const fs::path& root,
+                    const std::vector<std::pair<std::string, std::string>>& mask_rows) {
+  std::ostringstream inst;
+  inst << "# instance_id class_id class_name (COCO class ids; 0 in a mask = static background)\n";
+  for (const auto& m : scene.movingObjects()) inst << m.instance_id << " " << m.class_id << " " << m.class_name << "\n";
+  writeFileAtomically((root / "masks" / "instances.txt").string(), inst.str());
+  writeFileAtomically((root / "masks.txt").string(), indexFile("instance masks (16-bit ids)", mask_rows));
+}
+
+/// exposure.txt of the fast scene.
+void writeExposureFile(const Scene& scene, const fs::path& root, const std::vector<std::string>& exposure_rows) {
+  std::ostringstream os;
+  os << "# exposure gain and motion-blur sub-frames per colour image (exposure "
+     << nsToSeconds(scene.exposureNs()) * 1e3 << " ms centred on the stamp; 1 sub-frame = sharp)\n"
+     << "# timestamp gain subframes\n";
+  for (const std::string& row : exposure_rows) os << row << "\n";
+  writeFileAtomically((root / "exposure.txt").string(), os.str());
+}
+
+}  // namespace
+
+void writeDataset(const Scene& scene, const std::string& dir, const DatasetOptions& options) {
+  if (options.png_compression < 0 || options.png_compression > 9)
+    throw ConfigError(str("synthetic dataset: png_compression must be 0..9, got ", options.png_compression));
+  const fs::path root(dir);
+  makeDir(root / "rgb");
+  makeDir(root / "depth");
+  if (options.write_masks) makeDir(root / "masks");
+  const int n = scene.frameCount();
+  std::vector<std::string> stamps(n), depth_stamps(n);
+  for (int i = 0; i < n; ++i) {
+    stamps[i] = formatSecondsStamp(scene.frameTime(i));
+    depth_stamps[i] = formatSecondsStamp(scene.frameTime(i) + options.depth_offset_ns);
+  }
+  const std::vector<std::string> exposure_rows = renderFrames(scene, root, stamps, depth_stamps, options);
 
   std::vector<std::pair<std::string, std::string>> rgb_rows, depth_rows, mask_rows;
   for (int i = 0; i < n; ++i) {
@@ -123,21 +151,8 @@ void writeDataset(const Scene& scene, const std::string& dir, const DatasetOptio
   writeTumTrajectory((root / "groundtruth.txt").string(), scene.groundTruth(),
                      str("ground truth of the synthetic '", sceneKindName(scene.kind()), "' scene, seed ",
                          scene.options().seed, " (T_w_c)"));
-  if (options.write_masks) {
-    std::ostringstream inst;
-    inst << "# instance_id class_id class_name (COCO class ids; 0 in a mask = static background)\n";
-    for (const auto& m : scene.movingObjects()) inst << m.instance_id << " " << m.class_id << " " << m.class_name << "\n";
-    writeFileAtomically((root / "masks" / "instances.txt").string(), inst.str());
-    writeFileAtomically((root / "masks.txt").string(), indexFile("instance masks (16-bit ids)", mask_rows));
-  }
-  if (scene.kind() == SceneKind::kFast) {
-    std::ostringstream os;
-    os << "# exposure gain and motion-blur sub-frames per colour image (exposure "
-       << nsToSeconds(scene.exposureNs()) * 1e3 << " ms centred on the stamp; 1 sub-frame = sharp)\n"
-       << "# timestamp gain subframes\n";
-    for (const std::string& row : exposure_rows) os << row << "\n";
-    writeFileAtomically((root / "exposure.txt").string(), os.str());
-  }
+  if (options.write_masks) writeMaskFiles(scene, root, mask_rows);
+  if (scene.kind() == SceneKind::kFast) writeExposureFile(scene, root, exposure_rows);
   writeFileAtomically((root / "depth.txt").string(), indexFile("depth maps", depth_rows));
   writeFileAtomically((root / "rgb.txt").string(), indexFile("color images", rgb_rows));
   kLog.info(str("wrote ", n, " frames of the '", sceneKindName(scene.kind()), "' scene to ", dir));

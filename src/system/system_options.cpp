@@ -4,14 +4,10 @@
 
 namespace plslam {
 
-void bindOptions(OptionTable* t, SystemOptions* o) {
-  t->bind("system.sequential", &o->sequential, "run all stages on one thread in a fixed order (deterministic)");
-  t->bind("system.use_lines", &o->use_lines, "use line features in tracking and mapping");
-  t->bind("system.mapping_queue", &o->mapping_queue, "keyframes waiting for local mapping before tracking waits");
+namespace {
 
-  bindFeatureOptions(t, &o->features);
-
-  TrackerOptions& tr = o->tracker;
+void bindTrackerOptions(OptionTable* t, TrackerOptions* o) {
+  TrackerOptions& tr = *o;
   t->bind("tracker.min_init_points", &tr.min_init_points, "keypoints with depth needed to initialise");
   t->bind("tracker.max_depth_m", &tr.max_depth_m, "keypoints farther than this make no map points (m)");
   t->bind("tracker.min_inliers", &tr.min_inliers, "fewer pose inliers than this: lost");
@@ -59,7 +55,10 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
   t->bind("tracker.pose_iterations", &tr.optimizer.iterations_per_round, "solver iterations per round");
   t->bind("tracker.use_depth", &tr.optimizer.model.use_depth, "depth residuals in pose optimisation");
   t->bind("tracker.depth_sigma_coeff", &tr.optimizer.model.depth_sigma_coeff, "depth sigma = coeff * z^2 in pose optimisation (1/m)");
+}
 
+// The dynamic filter, and the segmenter it drives.
+void bindDynamicOptions(OptionTable* t, SystemOptions* o) {
   DynamicFilterOptions& d = o->dynamic;
   t->bind("dynamic.enabled", &d.enabled, "reject features on moving objects (geometry, Delaunay graph, instance masks)");
   t->bind("dynamic.segment_every", &d.segment_every, "segment every this many frames");
@@ -83,7 +82,10 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
   t->bind("dynamic.yolo_confidence", &o->segmenter.yolo.confidence, "YOLOv8-seg minimum class score");
   t->bind("dynamic.yolo_nms_iou", &o->segmenter.yolo.nms_iou, "YOLOv8-seg class-aware NMS overlap");
   bindSegmenterOptions(t, &o->segmenter);
+}
 
+// Loop closure, with the system switches of the threads that run behind tracking.
+void bindLoopOptions(OptionTable* t, SystemOptions* o) {
   LoopOptions& l = o->loop;
   t->bind("system.use_loop", &o->use_loop, "loop closure (place recognition, verification, pose graph)");
   t->bind("system.refine_frames", &o->refine_frames, "re-estimate each frame's pose once local BA has refined its landmarks");
@@ -107,8 +109,10 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
   t->bind("loop.edge_sigma_trans_m", &l.edge_sigma_trans_m, "pose-graph edge sigma, translation (m)");
   t->bind("loop.edge_sigma_rot_deg", &l.edge_sigma_rot_deg, "pose-graph edge sigma, rotation (deg)");
   t->bind("loop.fuse_duplicates", &l.fuse_duplicates, "merge map points seen at both ends of a loop");
+}
 
-  DenseOptions& dn = o->dense;
+void bindDenseOptions(OptionTable* t, DenseOptions* o) {
+  DenseOptions& dn = *o;
   t->bind("dense.enabled", &dn.enabled, "make a dense cloud per keyframe (needed for plslam run/export dense products)");
   t->bind("dense.min_depth_m", &dn.min_depth_m, "pixels nearer than this are left out of the clouds (m)");
   t->bind("dense.max_depth_m", &dn.max_depth_m, "pixels farther than this are left out of the clouds (m)");
@@ -141,15 +145,19 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
           "maps while running: update this many seconds after the last update when something is new "
           "(0 = not by time; both 0 = only at the end)");
   t->bind("dense.live_nice", &dn.live_nice, "maps while running: nice value of their thread (0..19; 19 = idle cycles)");
+}
 
+void bindCalibrationOptions(OptionTable* t, SystemOptions* o) {
   t->bind("calibration.camera_to_base", &o->camera_to_base,
           "camera-to-base file of plslam calib base: the map frame's origin is then on the floor below the base, x its "
           "forward, and trajectory_base.txt is written (empty: none)");
   t->bind("calibration.depth_scale", &o->depth_correction.scale,
           "depth correction of plslam calib depth: measured = scale * true + offset (1: none)");
   t->bind("calibration.depth_offset_m", &o->depth_correction.offset_m, "... and its offset (m, 0: none)");
+}
 
-  LocalMapperOptions& m = o->mapper;
+void bindMapperOptions(OptionTable* t, LocalMapperOptions* o) {
+  LocalMapperOptions& m = *o;
   t->bind("mapper.local_ba", &m.local_ba, "run the local bundle adjustment");
   t->bind("mapper.ba_keyframes", &m.ba_keyframes, "keyframes optimised together in local BA");
   t->bind("mapper.ba_fixed_keyframes", &m.ba_fixed_keyframes, "further keyframes held fixed around them");
@@ -162,6 +170,23 @@ void bindOptions(OptionTable* t, SystemOptions* o) {
   t->bind("mapper.line_sample_step_px", &m.line_fit.sample_step_px, "spacing of depth samples along a segment (px)");
   t->bind("mapper.line_min_inlier_ratio", &m.line_fit.min_inlier_ratio, "fraction of valid samples a fitted 3D line must explain");
   t->bind("mapper.line_max_depth_m", &m.line_fit.max_depth_m, "depth samples beyond this are ignored (m)");
+}
+
+}  // namespace
+
+// One section after the other, in this order: the table lists (and writes) keys in binding order.
+void bindOptions(OptionTable* t, SystemOptions* o) {
+  t->bind("system.sequential", &o->sequential, "run all stages on one thread in a fixed order (deterministic)");
+  t->bind("system.use_lines", &o->use_lines, "use line features in tracking and mapping");
+  t->bind("system.mapping_queue", &o->mapping_queue, "keyframes waiting for local mapping before tracking waits");
+
+  bindFeatureOptions(t, &o->features);
+  bindTrackerOptions(t, &o->tracker);
+  bindDynamicOptions(t, o);
+  bindLoopOptions(t, o);
+  bindDenseOptions(t, &o->dense);
+  bindCalibrationOptions(t, o);
+  bindMapperOptions(t, &o->mapper);
 }
 
 }  // namespace plslam

@@ -227,6 +227,69 @@ std::string dynamicLabel(const BenchSettings& settings, const SequenceSpec& spec
   return spec.kind == "synthetic" ? "replayed masks" : "YOLO masks";
 }
 
+/// Feeds the dataset once through a started System, with a progress line; Ctrl-C ends the feed.
+FeedResult feedRun(System* slam, TumDataset* dataset, const BenchSettings& settings, const SequenceSpec& spec, int k) {
+  SigintGuard sigint;
+  ProgressLine line("bench");
+  const FeedResult fed = feedFrames(slam, dataset, [&](const FeedProgress& p) {
+    line.update("%s run %d/%d frame %zu/%zu  tracked %d  keyframes %zu  %.1f frames/s", spec.name.c_str(), k,
+                settings.runs, p.done, p.total, p.tracked, p.keyframes, p.done / std::max(p.seconds, 1e-9));
+  }, 500, settings.options.sequential ? Pace::kAsFastAsPossible : settings.pace);
+  line.done();
+  return fed;
+}
+
+/// The figures of a finished run: counts, timing medians, and ATE/RPE when evaluated.
+void fillRunFigures(const RunStats& st, const TumDataset& dataset, const RunEvaluation& ev, RunFigures* r) {
+  r->fed = st.frames;
+  r->tracked = st.tracked;
+  r->keyframes = st.keyframes;
+  r->skipped_frames = dataset.skippedTotal();
+  // Frames with a pose / frames given (a frame that failed to load has no pose).
+  r->tracked_fraction = r->frames ? static_cast<double>(r->estimate.size()) / r->frames : 0.0;
+  const Summary tms = summarize(st.tracking_ms);
+  r->tracking_median = tms.median;
+  r->tracking_p95 = tms.p95;
+  r->tracking_max = tms.max;
+  r->features_median = summarize(st.features_ms).median;
+  for (int i = 0; i < kStageCount; ++i) r->stage_median[i] = summarize(st.stage_ms[i]).median;
+  if (!st.segmentation_ms.empty()) r->segmentation_median = summarize(st.segmentation_ms).median;
+  if (!st.ba_ms.empty()) r->local_ba_median = summarize(st.ba_ms).median;
+  if (ev.ok) {
+    r->ate = ev.result.ate.stats.rmse;
+    r->ate_pairs = ev.result.ate.stats.count;
+    r->ate_result = ev.result.ate;
+    r->rpe_pairs = ev.result.rpe.pairs;
+    if (ev.result.rpe.pairs > 0) {
+      r->rpe_trans = ev.result.rpe.trans.rmse;
+      r->rpe_rot = ev.result.rpe.rot_deg.rmse;
+    }
+  } else {
+    r->eval_error = ev.attempted ? ev.error
+                                 : (dataset.hasGroundtruth() ? "fewer than 3 tracked frames" : "no ground truth");
+  }
+}
+
+/// Plots the run whose ATE is the median one (the lower middle for an even count).
+void plotMedianRun(const BenchSettings& settings, const TumDataset& dataset, const std::string& seq_out,
+                   SequenceResult* result) {
+  const SequenceSpec& spec = result->spec;
+  std::vector<int> evaluated;
+  for (size_t i = 0; i < result->runs.size(); ++i)
+    if (std::isfinite(result->runs[i].ate)) evaluated.push_back(static_cast<int>(i));
+  if (evaluated.empty()) return;
+  std::sort(evaluated.begin(), evaluated.end(),
+            [&](int a, int b) { return result->runs[a].ate < result->runs[b].ate; });
+  result->median_run = evaluated[(evaluated.size() - 1) / 2];
+  const RunFigures& m = result->runs[result->median_run];
+  PlotOptions plot;
+  plot.title = spec.name + ", run " + std::to_string(m.run) + " of " + std::to_string(result->runs.size()) +
+               " (median ATE), " + (settings.options.sequential ? "sequential" : "threaded") +
+               (settings.options.use_lines ? ", points+lines" : ", points only");
+  result->plot = seq_out + "/trajectory.png";
+  plotTrajectories(result->plot, dataset.groundtruth(), m.estimate, m.ate_result, plot);
+}
+
 /// Runs one sequence `runs` times; fills `result` (also on an error, with what is done).
 void runSequence(const BenchSettings& settings, SequenceResult* result, bool* interrupted) {
   const SequenceSpec& spec = result->spec;
@@ -241,16 +304,7 @@ void runSequence(const BenchSettings& settings, SequenceResult* result, bool* in
     dataset.rewind();
     System slam(camera, options);
     slam.start();
-    FeedResult fed;
-    {
-      SigintGuard sigint;
-      ProgressLine line("bench");
-      fed = feedFrames(&slam, &dataset, [&](const FeedProgress& p) {
-        line.update("%s run %d/%d frame %zu/%zu  tracked %d  keyframes %zu  %.1f frames/s", spec.name.c_str(), k,
-                    settings.runs, p.done, p.total, p.tracked, p.keyframes, p.done / std::max(p.seconds, 1e-9));
-      }, 500, settings.options.sequential ? Pace::kAsFastAsPossible : settings.pace);
-      line.done();
-    }
+    const FeedResult fed = feedRun(&slam, &dataset, settings, spec, k);
     if (fed.interrupted) {
       *interrupted = true;
       std::fprintf(stderr, "[bench] interrupted: finishing this run, writing what there is, skipping the rest\n");
@@ -263,35 +317,8 @@ void runSequence(const BenchSettings& settings, SequenceResult* result, bool* in
     r.estimate = slam.trajectory();
     const RunEvaluation ev = evaluateRun(dataset, r.estimate);
     writeRunOutputs(r.dir, slam, settings.config_yaml, runStatsExtra(dataset, ev));
-    const RunStats st = slam.stats();
     r.frames = result->frames;
-    r.fed = st.frames;
-    r.tracked = st.tracked;
-    r.keyframes = st.keyframes;
-    r.skipped_frames = dataset.skippedTotal();
-    // Frames with a pose / frames given (a frame that failed to load has no pose).
-    r.tracked_fraction = r.frames ? static_cast<double>(r.estimate.size()) / r.frames : 0.0;
-    const Summary tms = summarize(st.tracking_ms);
-    r.tracking_median = tms.median;
-    r.tracking_p95 = tms.p95;
-    r.tracking_max = tms.max;
-    r.features_median = summarize(st.features_ms).median;
-    for (int i = 0; i < kStageCount; ++i) r.stage_median[i] = summarize(st.stage_ms[i]).median;
-    if (!st.segmentation_ms.empty()) r.segmentation_median = summarize(st.segmentation_ms).median;
-    if (!st.ba_ms.empty()) r.local_ba_median = summarize(st.ba_ms).median;
-    if (ev.ok) {
-      r.ate = ev.result.ate.stats.rmse;
-      r.ate_pairs = ev.result.ate.stats.count;
-      r.ate_result = ev.result.ate;
-      r.rpe_pairs = ev.result.rpe.pairs;
-      if (ev.result.rpe.pairs > 0) {
-        r.rpe_trans = ev.result.rpe.trans.rmse;
-        r.rpe_rot = ev.result.rpe.rot_deg.rmse;
-      }
-    } else {
-      r.eval_error = ev.attempted ? ev.error
-                                  : (dataset.hasGroundtruth() ? "fewer than 3 tracked frames" : "no ground truth");
-    }
+    fillRunFigures(slam.stats(), dataset, ev, &r);
     r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::fprintf(stderr, "[bench] %s run %d/%d: %s, tracked %.1f%%, %d keyframes, tracking %.1f ms median (%.1f s)\n",
                  spec.name.c_str(), k, settings.runs,
@@ -299,23 +326,7 @@ void runSequence(const BenchSettings& settings, SequenceResult* result, bool* in
                  100.0 * r.tracked_fraction, r.keyframes, r.tracking_median, r.wall_s);
     result->runs.push_back(std::move(r));
   }
-
-  // Plot the run whose ATE is the median one (the lower middle for an even count).
-  std::vector<int> evaluated;
-  for (size_t i = 0; i < result->runs.size(); ++i)
-    if (std::isfinite(result->runs[i].ate)) evaluated.push_back(static_cast<int>(i));
-  if (!evaluated.empty()) {
-    std::sort(evaluated.begin(), evaluated.end(),
-              [&](int a, int b) { return result->runs[a].ate < result->runs[b].ate; });
-    result->median_run = evaluated[(evaluated.size() - 1) / 2];
-    const RunFigures& m = result->runs[result->median_run];
-    PlotOptions plot;
-    plot.title = spec.name + ", run " + std::to_string(m.run) + " of " + std::to_string(result->runs.size()) +
-                 " (median ATE), " + (settings.options.sequential ? "sequential" : "threaded") +
-                 (settings.options.use_lines ? ", points+lines" : ", points only");
-    result->plot = seq_out + "/trajectory.png";
-    plotTrajectories(result->plot, dataset.groundtruth(), m.estimate, m.ate_result, plot);
-  }
+  plotMedianRun(settings, dataset, seq_out, result);
 }
 
 std::string markdownTable(const std::vector<SequenceResult>& results, const BenchSettings& settings) {
@@ -582,14 +593,8 @@ void writeBenchReport(const std::vector<SequenceResult>& results, const std::vec
   std::fprintf(stderr, "[bench] wrote %s/results.md and results.json\n", settings.out.c_str());
 }
 
-int runBench(int argc, char** argv) {
-  const char* env_shared = std::getenv("PLSLAM_SHARED_DIR");
-  const std::string default_shared =
-      env_shared && *env_shared ? env_shared
-                                 : (fs::path(PLSLAM_SOURCE_DIR) / ".." / "shared").lexically_normal().string();
-  Args args("bench",
-            "Benchmark: every TUM sequence of <shared>/data/tum and synthetic scenes, N threaded runs each, "
-            "one Markdown table (docs/BENCHMARK.md).");
+/// The options of plslam bench.
+void declareBenchOptions(Args& args, const std::string& default_shared) {
   args.option("shared", "the shared/ folder with data/tum/ ($PLSLAM_SHARED_DIR, else <source>/../shared)",
               default_shared)
       .option("calib-dir", "folder with tum_freiburg{1,2,3}.xml", std::string(PLSLAM_SOURCE_DIR) + "/calib")
@@ -618,6 +623,43 @@ int runBench(int argc, char** argv) {
           "Measure a Release build; the machine's load shows in the times.\n\n"
           "example: plslam bench --runs 3 --scenes static,dynamic --out maps/bench\n"
           "         plslam bench --runs 3 --scenes dynamic,crowded --masks --out maps/bench_masks");
+}
+
+/// One row: the synthetic scene rendered (or reused) first, then its runs; an error is noted
+/// and leaves the row with what is done.
+SequenceResult benchRow(const SequenceSpec& spec, const BenchSettings& settings, int synthetic_frames,
+                        bool* interrupted, bool* failed, std::vector<std::string>* notes) {
+  SequenceResult result;
+  result.spec = spec;
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    if (spec.kind == "synthetic") {
+      synth::SceneOptions scene_options;
+      scene_options.frames = synthetic_frames > 0 ? synthetic_frames : synth::defaultFrameCount(spec.scene);
+      result.render_s = prepareSynthetic(synth::makeScene(spec.scene, scene_options), spec.dir, spec.name);
+    }
+    const auto runs_t0 = std::chrono::steady_clock::now();
+    runSequence(settings, &result, interrupted);
+    result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - runs_t0).count();
+  } catch (const Error& e) {
+    result.error = e.what();
+    result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    *failed = true;
+    addNote(notes, spec.name + " failed: " + result.error);
+  }
+  result.peak_rss_mb = peakRssMb();
+  return result;
+}
+
+int runBench(int argc, char** argv) {
+  const char* env_shared = std::getenv("PLSLAM_SHARED_DIR");
+  const std::string default_shared =
+      env_shared && *env_shared ? env_shared
+                                 : (fs::path(PLSLAM_SOURCE_DIR) / ".." / "shared").lexically_normal().string();
+  Args args("bench",
+            "Benchmark: every TUM sequence of <shared>/data/tum and synthetic scenes, N threaded runs each, "
+            "one Markdown table (docs/BENCHMARK.md).");
+  declareBenchOptions(args, default_shared);
   if (!args.parse(argc, argv)) return 0;
   setLogLevel(parseLogLevel(args.str("log-level")));
   const auto bench_t0 = std::chrono::steady_clock::now();
@@ -629,7 +671,6 @@ int runBench(int argc, char** argv) {
                  PLSLAM_BUILD_TYPE);
 
   std::vector<std::string> notes;  // skips and warnings, printed under the table
-  auto note = [&notes](const std::string& text) { addNote(&notes, text); };
   const std::vector<SequenceSpec> specs = benchRows(args, settings, &notes);
   const std::string shared = args.str("shared");
   std::error_code ec;
@@ -640,26 +681,7 @@ int runBench(int argc, char** argv) {
   bool interrupted = false, failed = false;
   for (const SequenceSpec& spec : specs) {
     if (interrupted) break;
-    SequenceResult result;
-    result.spec = spec;
-    const auto t0 = std::chrono::steady_clock::now();
-    try {
-      if (spec.kind == "synthetic") {
-        synth::SceneOptions scene_options;
-        scene_options.frames = synthetic_frames > 0 ? synthetic_frames : synth::defaultFrameCount(spec.scene);
-        result.render_s = prepareSynthetic(synth::makeScene(spec.scene, scene_options), spec.dir, spec.name);
-      }
-      const auto runs_t0 = std::chrono::steady_clock::now();
-      runSequence(settings, &result, &interrupted);
-      result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - runs_t0).count();
-    } catch (const Error& e) {
-      result.error = e.what();
-      result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      failed = true;
-      note(spec.name + " failed: " + result.error);
-    }
-    result.peak_rss_mb = peakRssMb();
-    results.push_back(std::move(result));
+    results.push_back(benchRow(spec, settings, synthetic_frames, &interrupted, &failed, &notes));
   }
 
   writeBenchReport(results, notes, settings, shared,

@@ -111,8 +111,7 @@ double pct(double est, double truth) { return 100.0 * (est - truth) / truth; }
 
 // ---------------------------------------------------------------------------------------
 
-int runRender(int argc, char** argv) {
-  Args args("calib render", "Render synthetic target images seen by a known camera (to try plslam calib).");
+void declareRenderOptions(Args& args) {
   args.option("out", "output folder", "", true)
       .option("target", kTargetHelp, "aprilgrid:6x6:0.04:0.012")
       .option("camera", "camera file of the simulated camera [default: 640x480, fx 520, with distortion]")
@@ -139,6 +138,52 @@ int runRender(int argc, char** argv) {
           "      --truth /tmp/cal/truth_camera.xml\n"
           "  plslam calib render --out /tmp/base --target tag:0:0.12 --views 8 \\\n"
           "      --camera-to-base 0.09,0.01,0.18,-102,0,-90 --tag-pose 0.45,0.02,0.15,-90,0,-80");
+}
+
+/// The views' names and board poses: random poses around the target, or with --camera-to-base
+/// the one pose of the base-calibration scene for every view (its truth file written).
+std::vector<std::pair<std::string, SE3>> renderViewPoses(Args& args, const Target& target, const PinholeCamera& cam,
+                                                         int n, uint32_t seed, const std::string& out) {
+  std::vector<std::pair<std::string, SE3>> views;
+  auto name = [](int i) { return cv::format("view_%02d.png", i); };
+  if (args.has("camera-to-base")) {
+    if (!args.has("tag-pose")) throw ConfigError("plslam calib render: --camera-to-base needs --tag-pose");
+    CameraToBase truth;
+    truth.T_b_c = parsePoseXyzRpyDeg(args.str("camera-to-base"), "--camera-to-base");
+    const SE3 T_b_tag = parsePoseXyzRpyDeg(args.str("tag-pose"), "--tag-pose");
+    const SE3 T_c_board = truth.T_b_c.inverse() * T_b_tag * target.boardFromTarget().inverse();
+    if (!targetInView(target, cam, T_c_board, 2))
+      throw ConfigError("plslam calib render: with these poses the target is not wholly in view of the camera");
+    for (int i = 0; i < n; ++i) views.emplace_back(name(i), T_c_board);
+    truth.views = n;
+    saveCameraToBase(out + "/truth_camera_to_base.yaml", truth, "truth of plslam calib render");
+  } else {
+    const std::vector<SE3> poses = makeViewPoses(target, cam, n, seed);
+    for (int i = 0; i < n; ++i) views.emplace_back(name(i), poses[i]);
+  }
+  return views;
+}
+
+/// bad_blurred.png (too blurry) and bad_cut.png (the target half out of view); their pose lines.
+std::string renderBadViews(const Target& target, const PinholeCamera& cam, uint32_t seed, const RenderOptions& ro,
+                           const std::string& out) {
+  std::string pose_text;
+  const SE3 pose = makeViewPoses(target, cam, 1, seed + 7777)[0];
+  RenderOptions blurred = ro;
+  blurred.blur_sigma = 4.0;
+  writeImage(out + "/colour/bad_blurred.png", renderTarget(target, cam, pose, blurred));
+  pose_text += poseLine("bad_blurred.png", pose);
+  SE3 cut = pose;
+  while (targetInView(target, cam, cut)) cut = SE3(Eigen::Quaterniond::Identity(), {0.01, 0, 0}) * cut;
+  cut = SE3(Eigen::Quaterniond::Identity(), {0.5 * target.patternArea().width, 0, 0}) * cut;
+  writeImage(out + "/colour/bad_cut.png", renderTarget(target, cam, cut, ro));
+  pose_text += poseLine("bad_cut.png", cut);
+  return pose_text;
+}
+
+int runRender(int argc, char** argv) {
+  Args args("calib render", "Render synthetic target images seen by a known camera (to try plslam calib).");
+  declareRenderOptions(args);
   if (!args.parse(argc, argv)) return 0;
   const Target target = Target::parse(args.str("target"));
   const PinholeCamera cam = args.has("camera") ? loadCameraFile(args.str("camera")) : exampleCamera();
@@ -158,23 +203,7 @@ int runRender(int argc, char** argv) {
   dro.offset = args.number("depth-offset");
   dro.noise_sigma = args.number("depth-noise");
 
-  std::vector<std::pair<std::string, SE3>> views;
-  auto name = [](int i) { return cv::format("view_%02d.png", i); };
-  if (args.has("camera-to-base")) {
-    if (!args.has("tag-pose")) throw ConfigError("plslam calib render: --camera-to-base needs --tag-pose");
-    CameraToBase truth;
-    truth.T_b_c = parsePoseXyzRpyDeg(args.str("camera-to-base"), "--camera-to-base");
-    const SE3 T_b_tag = parsePoseXyzRpyDeg(args.str("tag-pose"), "--tag-pose");
-    const SE3 T_c_board = truth.T_b_c.inverse() * T_b_tag * target.boardFromTarget().inverse();
-    if (!targetInView(target, cam, T_c_board, 2))
-      throw ConfigError("plslam calib render: with these poses the target is not wholly in view of the camera");
-    for (int i = 0; i < n; ++i) views.emplace_back(name(i), T_c_board);
-    truth.views = n;
-    saveCameraToBase(out + "/truth_camera_to_base.yaml", truth, "truth of plslam calib render");
-  } else {
-    const std::vector<SE3> poses = makeViewPoses(target, cam, n, seed);
-    for (int i = 0; i < n; ++i) views.emplace_back(name(i), poses[i]);
-  }
+  const std::vector<std::pair<std::string, SE3>> views = renderViewPoses(args, target, cam, n, seed, out);
   std::string pose_text = "# name tx ty tz qx qy qz qw: T_c_board, the board in the camera frame (metres)\n";
   for (size_t i = 0; i < views.size(); ++i) {
     RenderOptions o = ro;
@@ -187,18 +216,7 @@ int runRender(int argc, char** argv) {
     }
     pose_text += poseLine(views[i].first, views[i].second);
   }
-  if (args.has("bad-views")) {
-    const SE3 pose = makeViewPoses(target, cam, 1, seed + 7777)[0];
-    RenderOptions blurred = ro;
-    blurred.blur_sigma = 4.0;
-    writeImage(out + "/colour/bad_blurred.png", renderTarget(target, cam, pose, blurred));
-    pose_text += poseLine("bad_blurred.png", pose);
-    SE3 cut = pose;
-    while (targetInView(target, cam, cut)) cut = SE3(Eigen::Quaterniond::Identity(), {0.01, 0, 0}) * cut;
-    cut = SE3(Eigen::Quaterniond::Identity(), {0.5 * target.patternArea().width, 0, 0}) * cut;
-    writeImage(out + "/colour/bad_cut.png", renderTarget(target, cam, cut, ro));
-    pose_text += poseLine("bad_cut.png", cut);
-  }
+  if (args.has("bad-views")) pose_text += renderBadViews(target, cam, seed, ro, out);
   writeFileAtomically(out + "/truth_poses.txt", pose_text);
   saveCameraFile(out + "/truth_camera.xml", cam, "truth of plslam calib render");
   std::cout << "wrote " << views.size() << (args.has("bad-views") ? " + 2 bad" : "") << " views of " << target.spec()

@@ -170,10 +170,7 @@ void drawCurves(const std::string& path, const std::vector<Curve>& curves, const
   writeFileAtomically(path, std::string(png.begin(), png.end()));
 }
 
-}  // namespace
-
-int runEvalLoops(int argc, char** argv) {
-  Args args("eval loops", "Precision-recall of loop detection (place recognition) against ground-truth poses.");
+void declareEvalLoopsOptions(Args& args) {
   args.option("dataset", "RGB-D folder in the TUM layout with groundtruth.txt", "", true)
       .option("calib", "camera file (ViSP XML); default: <dataset>/camera.xml")
       .option("out", "output folder: pr.csv, pr.png, summary.json", "", true)
@@ -190,33 +187,45 @@ int runEvalLoops(int argc, char** argv) {
       .flag("mask-dynamic", "semantic variant: drop the features on potentially dynamic instances (persons...) before "
                             "its bags of words and verification, as a run's dynamic rejection does")
       .epilog("example: plslam eval loops --dataset /tmp/loop --out /tmp/loop_pr");
-  if (!args.parse(argc, argv)) return 0;
-  const double distance = args.number("distance"), angle_deg = args.number("angle"), gap_s = args.number("min-gap");
-  const double pose_tol_m = args.number("pose-tolerance-m"), pose_tol_deg = args.number("pose-tolerance-deg");
-  // Checked before the long pass over the frames.
-  for (const auto& [name, value] : {std::pair<const char*, double>{"distance", distance}, {"angle", angle_deg},
-                                    {"pose-tolerance-m", pose_tol_m}, {"pose-tolerance-deg", pose_tol_deg}})
-    if (!(value > 0)) throw ConfigError(str("plslam eval loops: --", name, " must be positive, got ", value));
-  const int every = args.integer("every", 1, 10000);
-  const std::string dir = args.str("dataset"), out = args.str("out");
-  const bool mask_dynamic = args.has("mask-dynamic");
-  if (mask_dynamic && args.str("segmenter") == "none") throw ConfigError("plslam eval loops: --mask-dynamic needs --segmenter");
-  const PinholeCamera camera = loadCameraFile(args.has("calib") ? args.str("calib") : dir + "/camera.xml");
-  TumDataset dataset = TumDataset::open(dir, camera);
-  if (!dataset.hasGroundtruth()) throw IoError(dir + ": no groundtruth.txt; eval loops needs ground-truth poses");
-  const VocabularySet vocab = loadVocabulary(args.has("vocab") ? args.str("vocab") : defaultVocabularyPath());
+}
 
+struct EvalLoopsSettings {
+  double distance = 0, angle_deg = 0, gap_s = 0, pose_tol_m = 0, pose_tol_deg = 0;
+  int every = 1;
+  std::string dir, out;
+  bool mask_dynamic = false;
+};
+
+/// The parsed options, checked before the long pass over the frames.
+EvalLoopsSettings readEvalLoopsSettings(Args& args) {
+  EvalLoopsSettings c;
+  c.distance = args.number("distance"), c.angle_deg = args.number("angle"), c.gap_s = args.number("min-gap");
+  c.pose_tol_m = args.number("pose-tolerance-m"), c.pose_tol_deg = args.number("pose-tolerance-deg");
+  for (const auto& [name, value] : {std::pair<const char*, double>{"distance", c.distance}, {"angle", c.angle_deg},
+                                    {"pose-tolerance-m", c.pose_tol_m}, {"pose-tolerance-deg", c.pose_tol_deg}})
+    if (!(value > 0)) throw ConfigError(str("plslam eval loops: --", name, " must be positive, got ", value));
+  c.every = args.integer("every", 1, 10000);
+  c.dir = args.str("dataset"), c.out = args.str("out");
+  c.mask_dynamic = args.has("mask-dynamic");
+  if (c.mask_dynamic && args.str("segmenter") == "none") throw ConfigError("plslam eval loops: --mask-dynamic needs --segmenter");
+  return c;
+}
+
+SegmenterOptions evalSegmenterOptions(const std::string& seg, const TumDataset& dataset) {
   SegmenterOptions so;
-  const std::string seg = args.str("segmenter");
   if (seg == "none" || seg == "replay") so.kind = parseSegmenterKind(seg);
   else so.kind = SegmenterKind::kYolo, so.yolo.model_path = seg;
   so.replay_labels = replayLabels(dataset);
-  std::unique_ptr<Segmenter> segmenter = makeSegmenter(so);
+  return so;
+}
 
+/// Every --every-th frame with a ground-truth pose, described (and segmented when a segmenter is given).
+std::vector<FrameInfo> describeFrames(TumDataset& dataset, const PinholeCamera& camera, const VocabularySet& vocab,
+                                      SegmenterKind kind, Segmenter* segmenter, const EvalLoopsSettings& c) {
   std::vector<FrameInfo> frames;
   RgbdFrame frame;
   ProgressLine line("eval loops");
-  for (size_t i = 0; i < dataset.size(); i += every) {
+  for (size_t i = 0; i < dataset.size(); i += c.every) {
     if (dataset.load(i, &frame) != FrameStatus::kOk) continue;
     const SE3* T = groundTruthAt(dataset.groundtruth(), frame.t_ns, 20'000'000LL);
     if (!T) continue;
@@ -224,106 +233,134 @@ int runEvalLoops(int argc, char** argv) {
     f.t_ns = frame.t_ns;
     f.T_w_c = *T;
     f.all = describeFrame(frame, cv::Mat(), camera, vocab);
-    if (so.kind != SegmenterKind::kNone) {
+    if (kind != SegmenterKind::kNone) {
       const Segmentation segmentation = segmenter->segment(frame);
       std::vector<InstanceDecision> decisions;  // potentially dynamic instances are dynamic (with --mask-dynamic)
       const cv::Mat keep = potentiallyDynamicMask(segmentation, &decisions);
-      if (!keep.empty() && mask_dynamic) f.off_dynamic = describeFrame(frame, keep, camera, vocab);
-      f.instances = describeInstances(segmentation, mask_dynamic ? decisions : std::vector<InstanceDecision>{},
+      if (!keep.empty() && c.mask_dynamic) f.off_dynamic = describeFrame(frame, keep, camera, vocab);
+      f.instances = describeInstances(segmentation, c.mask_dynamic ? decisions : std::vector<InstanceDecision>{},
                                       frame.depth_m, camera);
     }
     frames.push_back(std::move(f));
     line.update("frame %zu/%zu", i + 1, dataset.size());
   }
   line.done();
-  if (frames.size() < 2) throw DataError(dir + ": fewer than two frames with ground truth");
+  return frames;
+}
 
-  int with_instances = 0;
-  for (const FrameInfo& f : frames) with_instances += !f.instances.empty();
-  std::printf("%zu frames, %d with segmented instances\n", frames.size(), with_instances);
-  const TimeNs gap = static_cast<TimeNs>(gap_s * kNsPerSecond);
-  const double cos_angle = std::cos(angle_deg * M_PI / 180.0);
-  auto samePlace = [&](const FrameInfo& a, const FrameInfo& b) {
+struct Verified {
+  int accepted = 0, right_pose = 0, same_place = 0;
+  double worst_right_t_m = 0;
+};
+
+/// Each frame as a query against the earlier ones: the four variants' proposals, and the
+/// geometric verification of the semantic variant's proposals at the threshold.
+class LoopQueries {
+ public:
+  LoopQueries(const std::vector<FrameInfo>& frames, const PinholeCamera& camera, const EvalLoopsSettings& c,
+              double threshold)
+      : frames_(frames), camera_(camera), c_(c), threshold_(threshold),
+        gap_(static_cast<TimeNs>(c.gap_s * kNsPerSecond)),
+        cos_angle_(std::cos(c.angle_deg * M_PI / 180.0)),
+        diagonal_(std::hypot(camera.width, camera.height)),
+        pose_tol_rad_(c.pose_tol_deg * M_PI / 180) {
+    curves.resize(4);
+    for (int v = 0; v < 4; ++v) curves[v].name = std::vector<std::string>{"ORB", "LBD", "ORB+LBD", "ORB+LBD+semantic"}[v];
+  }
+
+  void run() {
+    for (size_t i = 0; i < frames_.size(); ++i) query(i);
+  }
+
+  std::vector<Curve> curves;
+  Verified verified;
+  int queries_with_truth = 0, verifications = 0;
+
+ private:
+  bool samePlace(const FrameInfo& a, const FrameInfo& b) const {
     const Eigen::Vector3d za = a.T_w_c.rotation() * Eigen::Vector3d::UnitZ();
     const Eigen::Vector3d zb = b.T_w_c.rotation() * Eigen::Vector3d::UnitZ();
-    return (a.T_w_c.translation() - b.T_w_c.translation()).norm() < distance && za.dot(zb) > cos_angle;
-  };
-  LoopOptions lo;
-  const double threshold = args.has("threshold") ? args.number("threshold") : lo.min_normalised_score;
-  const double diagonal = std::hypot(camera.width, camera.height);
-  std::vector<Curve> curves(4);
-  for (int v = 0; v < 4; ++v) curves[v].name = std::vector<std::string>{"ORB", "LBD", "ORB+LBD", "ORB+LBD+semantic"}[v];
+    return (a.T_w_c.translation() - b.T_w_c.translation()).norm() < c_.distance && za.dot(zb) > cos_angle_;
+  }
+
   // Variant 4 (v == 3) on the semantic descriptions; `appearance_only` leaves out its
   // instance factor (the reference score: covisible keyframes are not weighed either).
-  auto variantScore = [&](int v, const FrameInfo& a, const FrameInfo& b, bool appearance_only = false) {
+  double variantScore(int v, const FrameInfo& a, const FrameInfo& b, bool appearance_only = false) const {
     const KeyframeBow& ba = v == 3 ? a.semantic().bow : a.all.bow;
     const KeyframeBow& bb = v == 3 ? b.semantic().bow : b.all.bow;
     const double so_ = bowScore(ba.orb, bb.orb), sl = bowScore(ba.lbd, bb.lbd);
     if (v == 0) return so_;
     if (v == 1) return sl;
-    double s = combinedScore(so_, sl, !ba.lbd.empty() && !bb.lbd.empty(), lo);
+    double s = combinedScore(so_, sl, !ba.lbd.empty() && !bb.lbd.empty(), lo_);
     if (v == 3 && !appearance_only && !a.instances.empty() && !b.instances.empty())
-      s *= matchInstances(a.instances, b.instances, diagonal, lo.semantic).factor;
+      s *= matchInstances(a.instances, b.instances, diagonal_, lo_.semantic).factor;
     return s;
-  };
-  struct Verified {
-    int accepted = 0, right_pose = 0, same_place = 0;
-    double worst_right_t_m = 0;
-  } verified;
-  const double pose_tol_rad = pose_tol_deg * M_PI / 180;
-  int queries_with_truth = 0, verifications = 0;
-  for (size_t i = 0; i < frames.size(); ++i) {
-    const FrameInfo& q = frames[i];
+  }
+
+  void query(size_t i) {
+    const FrameInfo& q = frames_[i];
     bool has_truth = false, has_candidate = false;
     for (size_t j = 0; j < i; ++j)
-      if (q.t_ns - frames[j].t_ns >= gap) {
+      if (q.t_ns - frames_[j].t_ns >= gap_) {
         has_candidate = true;
-        has_truth = has_truth || samePlace(q, frames[j]);
+        has_truth = has_truth || samePlace(q, frames_[j]);
       }
-    if (!has_candidate) continue;
+    if (!has_candidate) return;
     queries_with_truth += has_truth;
     for (int v = 0; v < 4; ++v) {
-      double reference = 0;
-      for (size_t j = 0; j < i; ++j)
-        if (q.t_ns - frames[j].t_ns <= kNsPerSecond) reference = std::max(reference, variantScore(v, q, frames[j], true));
-      double best = -1;
       size_t best_j = 0;
-      for (size_t j = 0; j < i; ++j) {
-        if (q.t_ns - frames[j].t_ns < gap) continue;
-        const double s = variantScore(v, q, frames[j]);
-        if (s > best) best = s, best_j = j;
-      }
-      const ScoredProposal p{reference > 0 ? best / reference : best, samePlace(q, frames[best_j])};
-      if (v == 3 && p.score >= threshold) {
-        LoopCandidate c;
-        const FrameDescription &qs = q.semantic(), &cs = frames[best_j].semantic();
-        verifyGeometry(qs.features, cs.features, camera, lo, &c, nullptr, &qs.geometry, &cs.geometry);
-        if (c.status == LoopStatus::kAccepted) {
-          // A false loop is one whose verified relative pose is wrong: an accepted view just
-          // beyond the ground-truth radius (an overlap at 25 degrees) with the right pose is not.
-          const SE3 err = (q.T_w_c.inverse() * frames[best_j].T_w_c).inverse() * c.T_query_candidate;
-          const bool right = err.translation().norm() < pose_tol_m &&
-                             err.quaternion().angularDistance(Eigen::Quaterniond::Identity()) < pose_tol_rad;
-          ++verified.accepted;
-          verified.right_pose += right;
-          verified.same_place += p.correct;
-          if (right) verified.worst_right_t_m = std::max(verified.worst_right_t_m, err.translation().norm());
-        }
+      const ScoredProposal p = propose(v, i, &best_j);
+      if (v == 3 && p.score >= threshold_) {
+        verify(q, frames_[best_j], p);
         ++verifications;
       }
       curves[v].proposals.push_back(p);
     }
   }
-  std::ostringstream csv;
-  csv << "variant,threshold,precision,recall,true_positives,false_positives\n";
-  Json json = {{"dataset", dir},
-               {"frames", frames.size()},
-               {"queries_with_true_loop", queries_with_truth},
-               {"frames_with_instances", with_instances},
-               {"distance_m", distance},
-               {"angle_deg", angle_deg},
-               {"min_gap_s", gap_s},
-               {"variants", Json::object()}};
+
+  /// The best-scoring frame at least the gap back, its score normalised by the best of the last second.
+  ScoredProposal propose(int v, size_t i, size_t* best_j) const {
+    const FrameInfo& q = frames_[i];
+    double reference = 0;
+    for (size_t j = 0; j < i; ++j)
+      if (q.t_ns - frames_[j].t_ns <= kNsPerSecond) reference = std::max(reference, variantScore(v, q, frames_[j], true));
+    double best = -1;
+    for (size_t j = 0; j < i; ++j) {
+      if (q.t_ns - frames_[j].t_ns < gap_) continue;
+      const double s = variantScore(v, q, frames_[j]);
+      if (s > best) best = s, *best_j = j;
+    }
+    return ScoredProposal{reference > 0 ? best / reference : best, samePlace(q, frames_[*best_j])};
+  }
+
+  void verify(const FrameInfo& q, const FrameInfo& cand, const ScoredProposal& p) {
+    LoopCandidate c;
+    const FrameDescription &qs = q.semantic(), &cs = cand.semantic();
+    verifyGeometry(qs.features, cs.features, camera_, lo_, &c, nullptr, &qs.geometry, &cs.geometry);
+    if (c.status != LoopStatus::kAccepted) return;
+    // A false loop is one whose verified relative pose is wrong: an accepted view just
+    // beyond the ground-truth radius (an overlap at 25 degrees) with the right pose is not.
+    const SE3 err = (q.T_w_c.inverse() * cand.T_w_c).inverse() * c.T_query_candidate;
+    const bool right = err.translation().norm() < c_.pose_tol_m &&
+                       err.quaternion().angularDistance(Eigen::Quaterniond::Identity()) < pose_tol_rad_;
+    ++verified.accepted;
+    verified.right_pose += right;
+    verified.same_place += p.correct;
+    if (right) verified.worst_right_t_m = std::max(verified.worst_right_t_m, err.translation().norm());
+  }
+
+  const std::vector<FrameInfo>& frames_;
+  const PinholeCamera& camera_;
+  const EvalLoopsSettings& c_;
+  const double threshold_;
+  const TimeNs gap_;
+  const double cos_angle_, diagonal_, pose_tol_rad_;
+  const LoopOptions lo_;
+};
+
+/// Each variant's P-R curve and operating point into the CSV, the JSON and the console.
+void reportCurves(std::vector<Curve>& curves, int queries_with_truth, double threshold, std::ostringstream& csv,
+                  Json& json) {
   for (size_t v = 0; v < curves.size(); ++v) {
     Curve& c = curves[v];
     c.pr = precisionRecall(c.proposals, queries_with_truth);
@@ -340,17 +377,41 @@ int runEvalLoops(int argc, char** argv) {
                 c.name.c_str(), c.pr.recall_at_precision_1, threshold, c.at_threshold.precision, c.at_threshold.recall,
                 queries_with_truth, c.proposals.size());
   }
-  PrPoint at_verified;  // precision: right relative poses / accepted; recall: accepted same places / true loops
+}
+
+/// Precision: right relative poses / accepted; recall: accepted same places / true loops.
+PrPoint verifiedPoint(const Verified& verified, int queries_with_truth, double threshold) {
+  PrPoint at_verified;
   at_verified.threshold = threshold;
   at_verified.true_positives = verified.right_pose;
   at_verified.false_positives = verified.accepted - verified.right_pose;
   at_verified.precision = verified.accepted ? static_cast<double>(verified.right_pose) / verified.accepted : 1.0;
   at_verified.recall = queries_with_truth ? static_cast<double>(verified.same_place) / queries_with_truth : 0.0;
+  return at_verified;
+}
+
+/// The console summary and pr.csv, summary.json, pr.png.
+void reportEvalLoops(const EvalLoopsSettings& c, size_t frame_count, int with_instances, double threshold,
+                     LoopQueries& queries) {
+  std::ostringstream csv;
+  csv << "variant,threshold,precision,recall,true_positives,false_positives\n";
+  Json json = {{"dataset", c.dir},
+               {"frames", frame_count},
+               {"queries_with_true_loop", queries.queries_with_truth},
+               {"frames_with_instances", with_instances},
+               {"distance_m", c.distance},
+               {"angle_deg", c.angle_deg},
+               {"min_gap_s", c.gap_s},
+               {"variants", Json::object()}};
+  std::vector<Curve>& curves = queries.curves;
+  reportCurves(curves, queries.queries_with_truth, threshold, csv, json);
+  const Verified& verified = queries.verified;
+  const PrPoint at_verified = verifiedPoint(verified, queries.queries_with_truth, threshold);
   const double semantic_margin = minPrecisionMargin(curves[3].pr, curves[2].pr);
   json["threshold"] = threshold;
   json["verified_at_threshold"] = {{"precision", at_verified.precision},
                                    {"recall", at_verified.recall},
-                                   {"verifications", verifications},
+                                   {"verifications", queries.verifications},
                                    {"accepted", verified.accepted},
                                    {"right_pose", verified.right_pose},
                                    {"same_place", verified.same_place},
@@ -358,15 +419,41 @@ int runEvalLoops(int argc, char** argv) {
   json["semantic_min_precision_margin"] = semantic_margin;
   std::printf("ORB+LBD+semantic, verified at threshold %.2f: precision %.3f recall %.3f (%d verified, %d accepted, %d "
               "with the right relative pose, %d within the ground-truth radius)\n",
-              threshold, at_verified.precision, at_verified.recall, verifications, verified.accepted,
+              threshold, at_verified.precision, at_verified.recall, queries.verifications, verified.accepted,
               verified.right_pose, verified.same_place);
   std::printf("semantic vs ORB+LBD: minimum precision margin over the curve %+.3f (>= 0: at least as good everywhere)\n",
               semantic_margin);
-  std::filesystem::create_directories(out);
-  writeFileAtomically(out + "/pr.csv", csv.str());
-  writeFileAtomically(out + "/summary.json", jsonText(json));
-  drawCurves(out + "/pr.png", curves, at_verified, std::filesystem::path(dir).filename().string() + ": loop detection P-R");
-  std::printf("outputs: %s/pr.csv pr.png summary.json\n", out.c_str());
+  std::filesystem::create_directories(c.out);
+  writeFileAtomically(c.out + "/pr.csv", csv.str());
+  writeFileAtomically(c.out + "/summary.json", jsonText(json));
+  drawCurves(c.out + "/pr.png", curves, at_verified, std::filesystem::path(c.dir).filename().string() + ": loop detection P-R");
+  std::printf("outputs: %s/pr.csv pr.png summary.json\n", c.out.c_str());
+}
+
+}  // namespace
+
+int runEvalLoops(int argc, char** argv) {
+  Args args("eval loops", "Precision-recall of loop detection (place recognition) against ground-truth poses.");
+  declareEvalLoopsOptions(args);
+  if (!args.parse(argc, argv)) return 0;
+  const EvalLoopsSettings c = readEvalLoopsSettings(args);
+  const PinholeCamera camera = loadCameraFile(args.has("calib") ? args.str("calib") : c.dir + "/camera.xml");
+  TumDataset dataset = TumDataset::open(c.dir, camera);
+  if (!dataset.hasGroundtruth()) throw IoError(c.dir + ": no groundtruth.txt; eval loops needs ground-truth poses");
+  const VocabularySet vocab = loadVocabulary(args.has("vocab") ? args.str("vocab") : defaultVocabularyPath());
+
+  const SegmenterOptions so = evalSegmenterOptions(args.str("segmenter"), dataset);
+  std::unique_ptr<Segmenter> segmenter = makeSegmenter(so);
+  const std::vector<FrameInfo> frames = describeFrames(dataset, camera, vocab, so.kind, segmenter.get(), c);
+  if (frames.size() < 2) throw DataError(c.dir + ": fewer than two frames with ground truth");
+
+  int with_instances = 0;
+  for (const FrameInfo& f : frames) with_instances += !f.instances.empty();
+  std::printf("%zu frames, %d with segmented instances\n", frames.size(), with_instances);
+  const double threshold = args.has("threshold") ? args.number("threshold") : LoopOptions().min_normalised_score;
+  LoopQueries queries(frames, camera, c, threshold);
+  queries.run();
+  reportEvalLoops(c, frames.size(), with_instances, threshold, queries);
   return 0;
 }
 
