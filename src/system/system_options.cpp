@@ -109,6 +109,15 @@ void bindLoopOptions(OptionTable* t, SystemOptions* o) {
   t->bind("loop.edge_sigma_trans_m", &l.edge_sigma_trans_m, "pose-graph edge sigma, translation (m)");
   t->bind("loop.edge_sigma_rot_deg", &l.edge_sigma_rot_deg, "pose-graph edge sigma, rotation (deg)");
   t->bind("loop.fuse_duplicates", &l.fuse_duplicates, "merge map points seen at both ends of a loop");
+  t->bind("loop.covisible_exclude_min_shared", &l.covisible_exclude_min_shared,
+          "keyframes sharing this many points with the query are not loop candidates");
+  t->bind("loop.line_max_distance", &l.line_max_distance, "LBD distance accepted for a line in the loop's verification");
+  t->bind("loop.max_depth_m", &l.max_depth_m, "keypoints farther than this are not used to verify a loop (m)");
+  t->bind("loop.covisibility_edge_min_shared", &l.covisibility_edge_min_shared,
+          "keyframe pairs sharing this many points get a pose-graph edge");
+  t->bind("loop.min_keyframes_between_loops", &l.min_keyframes_between_loops, "keyframes after an accepted loop before the next");
+  t->bind("loop.global_ba", &l.global_ba, "a bundle adjustment of every keyframe and point after the pose graph");
+  t->bind("loop.global_ba_max_time_s", &l.ba.max_time_s, "global BA time budget, seconds (0 = none)");
 }
 
 void bindDenseOptions(OptionTable* t, DenseOptions* o) {
@@ -167,6 +176,8 @@ void bindMapperOptions(OptionTable* t, LocalMapperOptions* o) {
   t->bind("mapper.ba_max_time_s", &m.ba.max_time_s, "local BA time budget, seconds (0 = none)");
   t->bind("mapper.cull_found_ratio", &m.cull_found_ratio, "landmarks found in fewer predicted frames than this are culled");
   t->bind("mapper.cull_single_after", &m.cull_single_after, "points seen by one keyframe are culled this many keyframes later");
+  t->bind("mapper.cull_min_visible", &m.cull_min_visible, "the found ratio is judged once a landmark was predicted this often");
+  t->bind("mapper.min_covisible_points", &m.min_covisible_points, "shared points that make two keyframes covisible (local BA window)");
   t->bind("mapper.line_sample_step_px", &m.line_fit.sample_step_px, "spacing of depth samples along a segment (px)");
   t->bind("mapper.line_min_inlier_ratio", &m.line_fit.min_inlier_ratio, "fraction of valid samples a fitted 3D line must explain");
   t->bind("mapper.line_max_depth_m", &m.line_fit.max_depth_m, "depth samples beyond this are ignored (m)");

@@ -10,6 +10,7 @@
 #include "io/dataset.h"
 #include "support/test_support.h"
 #include "synthetic_cache.h"
+#include "core/option_table.h"
 #include "system/system.h"
 
 using namespace plslam;
@@ -110,6 +111,31 @@ TEST(SystemSynthetic, MapperAndLoopOptionsOutOfRangeAreRefusedByTheirKeys) {
   SystemOptions fine = sequential();
   fine.use_loop = true;
   EXPECT_NO_THROW(System(camera, fine));
+}
+
+TEST(SystemSynthetic, LoopAndMapperConstantsAreConfigKeys) {
+  // Fields that had no key (issue 21): each key reaches its field.
+  SystemOptions o;
+  OptionTable table;
+  bindOptions(&table, &o);
+  table.set("loop.global_ba", "false", "test.yaml");
+  table.set("loop.global_ba_max_time_s", "1.5", "test.yaml");
+  table.set("loop.min_keyframes_between_loops", "9", "test.yaml");
+  table.set("loop.covisibility_edge_min_shared", "70", "test.yaml");
+  table.set("loop.covisible_exclude_min_shared", "4", "test.yaml");
+  table.set("loop.line_max_distance", "90", "test.yaml");
+  table.set("loop.max_depth_m", "4.5", "test.yaml");
+  table.set("mapper.cull_min_visible", "8", "test.yaml");
+  table.set("mapper.min_covisible_points", "20", "test.yaml");
+  EXPECT_FALSE(o.loop.global_ba);
+  EXPECT_EQ(o.loop.ba.max_time_s, 1.5);
+  EXPECT_EQ(o.loop.min_keyframes_between_loops, 9);
+  EXPECT_EQ(o.loop.covisibility_edge_min_shared, 70);
+  EXPECT_EQ(o.loop.covisible_exclude_min_shared, 4);
+  EXPECT_EQ(o.loop.line_max_distance, 90);
+  EXPECT_EQ(o.loop.max_depth_m, 4.5);
+  EXPECT_EQ(o.mapper.cull_min_visible, 8);
+  EXPECT_EQ(o.mapper.min_covisible_points, 20);
 }
 
 TEST(SystemSynthetic, ThreadedModeTracksAndFinishes) {
