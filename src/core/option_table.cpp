@@ -158,4 +158,8 @@ std::map<std::string, std::string> parseYamlSubset(const std::string& content, c
   return out;
 }
 
+void requireOption(bool ok, const std::string& section, const std::string& key, const std::string& range, double value) {
+  if (!ok) throw ConfigError(str(section, ".", key, " must be ", range, " (got ", value, ")"));
+}
+
 }  // namespace plslam

@@ -52,4 +52,8 @@ class OptionTable {
 /// '_' and '-', and keys given twice are refused with a ConfigError naming `source` and the line.
 std::map<std::string, std::string> parseYamlSubset(const std::string& content, const std::string& source);
 
+/// Throws ConfigError "<section>.<key> must be <range> (got <value>)" unless `ok`: the one
+/// message of every options struct's validate().
+void requireOption(bool ok, const std::string& section, const std::string& key, const std::string& range, double value);
+
 }  // namespace plslam

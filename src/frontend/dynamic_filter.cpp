@@ -6,6 +6,7 @@
 #include "core/profile.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "core/option_table.h"
 #include "features/matching.h"
 
 namespace plslam {
@@ -67,8 +68,8 @@ void DynamicFilter::removeLines(FrameFeatures* f, DynamicFrameResult* r) const {
 }
 
 void DynamicFilterOptions::validate() const {
-  auto require = [](bool ok, const char* key, const char* range, double value) {
-    if (!ok) throw ConfigError(str("dynamic.", key, " must be ", range, " (got ", value, ")"));
+  auto require = [](bool ok, const char* key, const std::string& range, double value) {
+    requireOption(ok, "dynamic", key, range, value);
   };
   require(segment_every >= 1, "segment_every", ">= 1", segment_every);
   require(compare_gap >= 1, "compare_gap", ">= 1", compare_gap);

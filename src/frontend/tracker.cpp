@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "core/option_table.h"
 #include "features/matching.h"
 #include "frontend/frame_refinement.h"
 
@@ -50,7 +51,7 @@ const char* toString(TrackingMethod m) {
 
 void TrackerOptions::validate() const {
   auto require = [](bool ok, const char* key, const std::string& range, double value) {
-    if (!ok) throw ConfigError(str("tracker.", key, " must be ", range, " (got ", value, ")"));
+    requireOption(ok, "tracker", key, range, value);
   };
   require(min_inliers >= 1, "min_inliers", ">= 1", min_inliers);
   require(wide_radius_px > 0 && narrow_radius_px > 0, "wide_radius_px and narrow_radius_px", "> 0",

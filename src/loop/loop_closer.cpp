@@ -10,6 +10,7 @@
 #include "core/profile.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "core/option_table.h"
 #include "loop/map_correction.h"
 #include "mapping/line_reconstruction.h"
 
@@ -171,7 +172,7 @@ LoopCloser::LoopCloser(Map* map, PinholeCamera camera, LoopOptions options)
 
 void LoopOptions::validate() const {
   auto require = [](bool ok, const char* key, const std::string& range, double value) {
-    if (!ok) throw ConfigError(str("loop.", key, " must be ", range, " (got ", value, ")"));
+    requireOption(ok, "loop", key, range, value);
   };
   require(point_weight >= 0 && line_weight >= 0 && point_weight + line_weight > 0, "point_weight and line_weight",
           ">= 0 with a positive sum", point_weight + line_weight);

@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "core/option_table.h"
 
 namespace plslam {
 
@@ -154,7 +155,7 @@ const LocalMapperOptions& validated(const LocalMapperOptions& o) {
 
 void LocalMapperOptions::validate() const {
   auto require = [](bool ok, const char* key, const std::string& range, double value) {
-    if (!ok) throw ConfigError(str("mapper.", key, " must be ", range, " (got ", value, ")"));
+    requireOption(ok, "mapper", key, range, value);
   };
   require(ba_keyframes >= 1, "ba_keyframes", ">= 1", ba_keyframes);
   require(ba_fixed_keyframes >= 0, "ba_fixed_keyframes", ">= 0", ba_fixed_keyframes);
