@@ -25,6 +25,7 @@
 #include "camera/pinhole_camera.h"
 #include "core/bounded_queue.h"
 #include "core/frame.h"
+#include "core/frame_recorder.h"
 
 namespace plslam {
 
@@ -34,24 +35,25 @@ struct RecorderOptions {
   int png_compression = 1;  ///< PNG compression level 0-9 (lossless whatever the level; 1 is fast)
 };
 
-class TumRecorder {
+class TumRecorder : public FrameRecorder {
  public:
   /// Creates `dir` (and rgb/, depth/), writes camera.xml and the list headers. Throws
   /// IoError naming the folder when it cannot, or when it already holds rgb.txt.
   TumRecorder(std::string dir, PinholeCamera camera, RecorderOptions options = {});
-  ~TumRecorder();
+  ~TumRecorder() override;
   TumRecorder(const TumRecorder&) = delete;
   TumRecorder& operator=(const TumRecorder&) = delete;
 
   /// Queues (or writes) one frame; its colour and depth must fit the camera. Throws
   /// IoError when a previous write failed.
-  void add(const RgbdFrame& frame);
+  void add(const RgbdFrame& frame) override;
   /// Writes what is queued and closes the lists; rethrows a write failure. Idempotent.
-  void close();
+  void close() override;
 
   const std::string& dir() const { return dir_; }
+  const std::string& location() const override { return dir_; }
   /// Frames written so far (after close(): all of them).
-  int written() const;
+  int written() const override;
 
  private:
   void write(const RgbdFrame& frame);

@@ -36,7 +36,7 @@ double secondsSince(Clock::time_point start) { return std::chrono::duration<doub
 
 /// The grabber thread's loop: grab, record, push, until Ctrl-C, a SLAM failure, the frame or
 /// time limit or the end of the stream (`stop_reason` says which; not set on a SLAM failure).
-void grabUntilStopped(FrameGrabber* grabber, TumRecorder* recorder, BoundedQueue<RgbdFrame>& queue,
+void grabUntilStopped(FrameGrabber* grabber, FrameRecorder* recorder, BoundedQueue<RgbdFrame>& queue,
                       const LiveOptions& options, const std::function<bool()>& stop,
                       const std::atomic<bool>& slam_failed, std::atomic<int>& grabbed, Clock::time_point start,
                       LiveStop* stop_reason) {
@@ -89,7 +89,7 @@ LiveStats runLive(FrameGrabber* grabber, System* slam, const LiveOptions& option
                   const std::function<void(const LiveProgress&)>& progress, int progress_period_ms,
                   const PinholeCamera* recording_camera) {
   BoundedQueue<RgbdFrame> queue(options.queue, options.drop_frames ? QueuePolicy::kDropOldest : QueuePolicy::kBlock);
-  std::unique_ptr<TumRecorder> recorder;
+  std::unique_ptr<FrameRecorder> recorder;
   if (!options.record_dir.empty())
     recorder = std::make_unique<TumRecorder>(options.record_dir,
                                              recording_camera ? *recording_camera : grabber->intrinsics(),

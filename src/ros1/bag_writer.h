@@ -13,26 +13,28 @@
 
 #include "camera/pinhole_camera.h"
 #include "core/frame.h"
+#include "core/frame_recorder.h"
 #include "ros1/bag_source.h"
 
 namespace plslam::ros1 {
 
-class BagWriter {
+class BagWriter : public FrameRecorder {
  public:
   /// Creates `path` (overwritten if it exists). Throws IoError naming it when it cannot.
   BagWriter(std::string path, PinholeCamera camera, std::string frame_id = "camera_rgb_optical_frame");
-  ~BagWriter();
+  ~BagWriter() override;
   BagWriter(const BagWriter&) = delete;
   BagWriter& operator=(const BagWriter&) = delete;
 
   /// Writes one frame (colour BGR 8-bit, depth CV_32F metres of the camera's size).
   /// Throws DataError for a frame that does not fit the camera, IoError when writing fails.
-  void add(const RgbdFrame& frame);
+  void add(const RgbdFrame& frame) override;
   /// Closes the bag (its index is written then). Idempotent.
-  void close();
+  void close() override;
 
   const std::string& path() const { return path_; }
-  int written() const { return written_; }
+  const std::string& location() const override { return path_; }
+  int written() const override { return written_; }
   /// The topics written: TUM's layout, the first of knownBagLayouts().
   static BagTopics topics();
 

@@ -2,7 +2,6 @@
 // folder that plslam run replays exactly, or (built with ROS) as a bag in TUM's layout.
 #include <chrono>
 #include <cstdio>
-#include <functional>
 #include <memory>
 
 #include "capture/frame_grabber.h"
@@ -20,32 +19,11 @@ namespace plslam::cli {
 
 namespace {
 
-/// Where the frames go: add() one, close() returns how many were written.
-struct RecordSink {
-  std::function<void(const RgbdFrame&)> add;
-  std::function<int()> close;
-  std::string where;
-};
-
-RecordSink openSink(const Args& args, const PinholeCamera& camera) {
+std::unique_ptr<FrameRecorder> openRecorder(const Args& args, const PinholeCamera& camera) {
   if (args.has("out") == args.has("bag")) throw ConfigError("plslam record: give one of --out DIR or --bag FILE.bag");
-  if (args.has("out")) {
-    auto recorder = std::make_shared<TumRecorder>(args.str("out"), camera);
-    return {[recorder](const RgbdFrame& f) { recorder->add(f); },
-            [recorder] {
-              recorder->close();
-              return recorder->written();
-            },
-            recorder->dir()};
-  }
+  if (args.has("out")) return std::make_unique<TumRecorder>(args.str("out"), camera);
 #ifdef PLSLAM_WITH_ROS
-  auto bag = std::make_shared<ros1::BagWriter>(args.str("bag"), camera);
-  return {[bag](const RgbdFrame& f) { bag->add(f); },
-          [bag] {
-            bag->close();
-            return bag->written();
-          },
-          bag->path()};
+  return std::make_unique<ros1::BagWriter>(args.str("bag"), camera);
 #else
   throw ConfigError("plslam record --bag: this plslam was built without ROS (install the ROS 1 packages: tools/setup.sh)");
 #endif
@@ -71,7 +49,7 @@ int runRecordCommand(int argc, char** argv) {
   const int max_frames = args.integer("max-frames", 0, 100000000);
 
   std::unique_ptr<FrameGrabber> grabber = openGrabber(args);
-  RecordSink sink = openSink(args, grabber->intrinsics());
+  const std::unique_ptr<FrameRecorder> recorder = openRecorder(args, grabber->intrinsics());
   int frames = 0;
   bool interrupted = false;
   {
@@ -87,13 +65,13 @@ int runRecordCommand(int argc, char** argv) {
       if (duration > 0 && std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >= duration)
         break;
       if (!grabber->grab(&frame)) break;
-      sink.add(frame);
+      recorder->add(frame);
       ++frames;
     }
   }
   grabber->close();
-  const int written = sink.close();
-  std::printf("recorded %d frames: %s\n", written, sink.where.c_str());
+  recorder->close();
+  std::printf("recorded %d frames: %s\n", recorder->written(), recorder->location().c_str());
   return interrupted ? 130 : 0;
 }
 
