@@ -20,7 +20,7 @@ namespace plslam::cli {
 
 namespace {
 
-int runLiveCommand(int argc, char** argv) {
+Args liveArgs() {
   Args args("live", "Point-line RGB-D SLAM on the live camera (Intel RealSense D435i through ViSP).");
   args.option("out", "output folder (created if needed)", "", true)
       .option("calib", "camera file (ViSP XML) to use instead of the device's intrinsics")
@@ -45,6 +45,47 @@ int runLiveCommand(int argc, char** argv) {
           "Ctrl-C stops and still writes what there is.\n"
           "Needs ViSP built with librealsense2; without it (Debian's ViSP) this prints why and exits with status 2.\n\n"
           "example: plslam live --out maps/office --record recordings/office --duration 60");
+  return args;
+}
+
+LiveOptions liveOptions(const Args& args) {
+  LiveOptions live;
+  live.drop_frames = !(args.has("no-drop") || args.has("sequential"));
+  live.queue = args.integer("queue", 1, 1000);
+  live.duration_s = args.number("duration");
+  live.max_frames = args.integer("max-frames", 0, 100000000);
+  if (args.has("record")) live.record_dir = args.str("record");
+  return live;
+}
+
+// The camera SLAM runs with: the device's intrinsics, or --calib's for the same image size;
+// a map to start from must have been built at that size.
+PinholeCamera liveCamera(const Args& args, const FrameGrabber& grabber, const RunConfig& config) {
+  const PinholeCamera device = grabber.intrinsics();
+  PinholeCamera camera = device;
+  if (args.has("calib")) {
+    camera = loadCameraFile(args.str("calib"));
+    checkImageSize(camera, device.width, device.height, grabber.name());
+  }
+  if (config.map && (camera.width != config.map->camera.width || camera.height != config.map->camera.height))
+    throw ConfigError(str("plslam live: the camera's images are ", camera.width, "x", camera.height,
+                          ", the map was built from ", config.map->camera.width, "x", config.map->camera.height));
+  return camera;
+}
+
+void printLiveSummary(const LiveStats& stats, const System& slam, const LiveOptions& live, const std::string& out) {
+  const RunStats st = slam.stats();
+  const Summary tms = summarize(st.tracking_ms);
+  std::printf("frames grabbed %d, processed %d, dropped %d (%s); tracked %d, keyframes %d, lost %d\n", stats.grabbed,
+              stats.processed, stats.dropped, toString(stats.stop), st.tracked, st.keyframes, st.lost_events);
+  std::printf("tracking %.1f ms/frame median, %.1f p95; %.1f s, %.1f frames/s processed\n", tms.median, tms.p95,
+              stats.seconds, stats.seconds > 0 ? stats.processed / stats.seconds : 0.0);
+  if (!live.record_dir.empty()) std::printf("recorded %d frames: %s\n", stats.recorded, live.record_dir.c_str());
+  std::printf("outputs: %s\n", out.c_str());
+}
+
+int runLiveCommand(int argc, char** argv) {
+  Args args = liveArgs();
   if (!args.parse(argc, argv)) return 0;
   setLogLevel(parseLogLevel(args.str("log-level")));
 
@@ -52,30 +93,15 @@ int runLiveCommand(int argc, char** argv) {
   RunConfig config = makeRunConfig(runSwitches(args), "plslam live: effective configuration");
   if (config.options.segmenter.kind == SegmenterKind::kReplay)
     throw ConfigError("plslam live: the replay segmenter (--segmenter replay, segmenter.backend) replays a recorded folder's masks: use plslam run on it");
-  const SystemOptions& options = config.options;
-  LiveOptions live;
-  live.drop_frames = !(args.has("no-drop") || args.has("sequential"));
-  live.queue = args.integer("queue", 1, 1000);
-  live.duration_s = args.number("duration");
-  live.max_frames = args.integer("max-frames", 0, 100000000);
-  if (args.has("record")) live.record_dir = args.str("record");
-
+  const LiveOptions live = liveOptions(args);
   std::unique_ptr<FrameGrabber> grabber = openGrabber(args);
-  const PinholeCamera device = grabber->intrinsics();
-  PinholeCamera camera = device;
-  if (args.has("calib")) {
-    camera = loadCameraFile(args.str("calib"));
-    checkImageSize(camera, device.width, device.height, grabber->name());
-  }
+  const PinholeCamera camera = liveCamera(args, *grabber, config);
   // The recording keeps the device's depth scale, so its depth PNGs are the sensor's values.
   PinholeCamera recording = camera;
-  recording.depth_scale = device.depth_scale;
+  recording.depth_scale = grabber->intrinsics().depth_scale;
 
   const std::string out = args.str("out");
-  if (config.map && (camera.width != config.map->camera.width || camera.height != config.map->camera.height))
-    throw ConfigError(str("plslam live: the camera's images are ", camera.width, "x", camera.height,
-                          ", the map was built from ", config.map->camera.width, "x", config.map->camera.height));
-  MappingSession session(camera, &config, out, !args.has("no-dense") && options.dense.enabled);
+  MappingSession session(camera, &config, out, !args.has("no-dense") && config.options.dense.enabled);
   System& slam = session.slam();
   session.start();
   const bool progress = !args.has("quiet");
@@ -96,15 +122,7 @@ int runLiveCommand(int argc, char** argv) {
   grabber->close();
   session.stop();
   session.writeOutputs(liveStatsJson(stats), args.str("save-map"), progress);
-
-  const RunStats st = slam.stats();
-  const Summary tms = summarize(st.tracking_ms);
-  std::printf("frames grabbed %d, processed %d, dropped %d (%s); tracked %d, keyframes %d, lost %d\n", stats.grabbed,
-              stats.processed, stats.dropped, toString(stats.stop), st.tracked, st.keyframes, st.lost_events);
-  std::printf("tracking %.1f ms/frame median, %.1f p95; %.1f s, %.1f frames/s processed\n", tms.median, tms.p95,
-              stats.seconds, stats.seconds > 0 ? stats.processed / stats.seconds : 0.0);
-  if (!live.record_dir.empty()) std::printf("recorded %d frames: %s\n", stats.recorded, live.record_dir.c_str());
-  std::printf("outputs: %s\n", out.c_str());
+  printLiveSummary(stats, slam, live, out);
   return stats.stop == LiveStop::kInterrupted ? 130 : 0;
 }
 
