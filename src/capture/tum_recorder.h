@@ -50,7 +50,6 @@ class TumRecorder : public FrameRecorder {
   /// Writes what is queued and closes the lists; rethrows a write failure. Idempotent.
   void close() override;
 
-  const std::string& dir() const { return dir_; }
   const std::string& location() const override { return dir_; }
   /// Frames written so far (after close(): all of them).
   int written() const override;

@@ -32,7 +32,6 @@ class BagWriter : public FrameRecorder {
   /// Closes the bag (its index is written then). Idempotent.
   void close() override;
 
-  const std::string& path() const { return path_; }
   const std::string& location() const override { return path_; }
   int written() const override { return written_; }
   /// The topics written: TUM's layout, the first of knownBagLayouts().
