@@ -4,7 +4,7 @@
 // tree, the poses (ATE against the scene's ground truth, next to `plslam run` threaded on
 // the same frames), the sparse map, the dense cloud and the grid (maps while running) in
 // the map frame, the save service and the outputs
-// written on SIGINT; the goal servo's cmd_vel. Prints the latency and drop figures that docs/RESULTS.md quotes;
+// written on SIGINT; the goal servo's and the tag servo's cmd_vel. Prints the latency and drop figures that docs/RESULTS.md quotes;
 // PLSLAM_ROS_NODE_PARAMS (e.g. "_queue:=1") adds node parameters for such measurements.
 #include <gtest/gtest.h>
 #include <geometry_msgs/PoseStamped.h>
@@ -15,6 +15,7 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <signal.h>
 #include <std_msgs/Empty.h>
+#include <std_msgs/Int32.h>
 #include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
 #include <sys/wait.h>
@@ -43,6 +44,7 @@
 #include "io/trajectory_file.h"
 #include "ros1/msg_convert.h"
 #include "plslam_ros/ros_messages.h"
+#include "servo_sim/tag_room.h"
 #include "ros_fixture.h"
 #include "support/test_support.h"
 #include "synthetic_cache.h"
@@ -185,6 +187,31 @@ class CameraPlayer {
     return groundtruth;
   }
 
+  /// Waits for the node's subscriptions (and, the first time, its camera_info), then sends
+  /// `frames` views of `room` from T_room_c at 30 Hz, stamped when sent.
+  void playViews(const TagRoom& room, const SE3& T_room_c, int frames) {
+    sensor_msgs::CameraInfo info = ros1::infoFromCamera(room.camera());
+    info.header.frame_id = "camera_color_optical_frame";
+    info_pub_.publish(info);
+    for (int i = 0; i < 200 && (colour_pub_.getNumSubscribers() == 0 || depth_pub_.getNumSubscribers() == 0 ||
+                                (first_play_ && info_pub_.getNumSubscribers() == 0)); ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    EXPECT_GT(colour_pub_.getNumSubscribers(), 0u) << "the node did not subscribe";
+    if (first_play_) std::this_thread::sleep_for(std::chrono::seconds(1));  // the latched camera_info reaches it first
+    first_play_ = false;
+    ros::WallRate rate(30.0);
+    for (int i = 0; i < frames; ++i) {
+      const synth::RenderedFrame view = room.render(T_room_c, 0, static_cast<uint64_t>(++views_));
+      sensor_msgs::Image colour = ros1::bgrToImage(view.bgr, "rgb8");
+      sensor_msgs::Image depth = ros1::depthToImage(view.depth_m, true);
+      colour.header.frame_id = depth.header.frame_id = "camera_color_optical_frame";
+      colour.header.stamp = depth.header.stamp = ros::Time::now();
+      colour_pub_.publish(colour);
+      depth_pub_.publish(depth);
+      rate.sleep();
+    }
+  }
+
   tf2_ros::Buffer tf_buffer;
   std::mutex mutex;
   std::map<TimeNs, double> latency_ms;  // pose stamp -> receive time - stamp
@@ -204,6 +231,7 @@ class CameraPlayer {
   ros::Subscriber pose_sub_, base_sub_, cloud_sub_, dense_sub_, grid_sub_;
   ros::Publisher colour_pub_, depth_pub_, info_pub_;
   bool first_play_ = true;
+  int views_ = 0;  // playViews' frames sent: each its own sensor noise
 };
 
 }  // namespace
@@ -733,6 +761,110 @@ TEST(RosNode, GoalDrivesCmdVelTowardsItAndCancelStopsIt) {
   const std::vector<geometry_msgs::Twist> before_shutdown = client.commands();
   ASSERT_GE(before_shutdown.size(), 2u) << "driving, then the stop";
   EXPECT_NE(before_shutdown.front().angular.z, 0);
+  EXPECT_EQ(before_shutdown.back().linear.x, 0);
+  EXPECT_EQ(before_shutdown.back().angular.z, 0) << "a zero command at shutdown";
+}
+
+namespace {
+
+// The camera `distance` metres in front of the tag of `room` (on the east wall), level,
+// looking at its centre.
+SE3 facingTheTag(const TagRoom& room, double distance) {
+  Eigen::Matrix3d R_room_c;  // optical z along the room's +x (towards the wall), x to -y, y down
+  R_room_c << 0, 0, 1,  //
+      -1, 0, 0,         //
+      0, -1, 0;
+  const Eigen::Vector3d centre = room.tagPose().translation();
+  return SE3(Eigen::Quaterniond(R_room_c), centre - Eigen::Vector3d(distance, 0, 0));
+}
+
+// What the node sends on /cmd_vel once its tag goal reaches it.
+std::vector<geometry_msgs::Twist> waitForCommands(GoalClient& client, size_t count) {
+  for (int i = 0; i < 60 && client.commands().size() < count; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  return client.commands();
+}
+
+}  // namespace
+
+// ~tag_goal drives the base to the tag's standoff with the tag servo on the colour images
+// (the camera, TagRoom's, does not obey: the views are rendered at fixed poses): nothing
+// before the tag goal; at 1.2 m from the tag, forward within the limits and no turn (it is
+// straight ahead); at the standoff (0.5 m), one zero command and the tag goal is over;
+// a new tag goal and ~cancel: one zero command, then nothing.
+TEST(RosNode, TagGoalDrivesTowardsTheTagAndStopsAtTheStandoff) {
+  test::RosMaster master;
+  ASSERT_TRUE(master.ok()) << master.why();
+  const std::string scratch = test::scratchDir("rosnode_tag");
+  const TagRoom room(TagRoom::onEastWall(-0.8, 0.15));  // where test_servo_slam detects it: a shelf hides y = 0
+  // A generous ~frame_timeout: the pauses of this test between the parts are not what it is about.
+  const pid_t node = startNode(scratch + "/node", {"_no_dense:=true", "_frame_timeout:=5"});
+  ASSERT_GT(node, 0);
+  CameraPlayer player;
+  GoalClient client;
+  ros::NodeHandle nh;
+  ros::Publisher tag_goal = nh.advertise<std_msgs::Int32>("/plslam/tag_goal", 1);
+  auto sendTagGoal = [&](int id) {
+    for (int i = 0; i < 100 && tag_goal.getNumSubscribers() == 0; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    ASSERT_GT(tag_goal.getNumSubscribers(), 0u);
+    client.forget();
+    std_msgs::Int32 msg;
+    msg.data = id;
+    tag_goal.publish(msg);
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));  // it reaches the node before the frames
+  };
+
+  player.playViews(room, facingTheTag(room, 1.2), 15);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  EXPECT_TRUE(client.commands().empty()) << "no tag goal: nothing on cmd_vel";
+
+  sendTagGoal(room.options().tag_id);
+  player.playViews(room, facingTheTag(room, 1.2), 30);
+  const std::vector<geometry_msgs::Twist> approach = waitForCommands(client, 20);
+  EXPECT_GE(approach.size(), 20u) << "a command per image, the tag seen in most";
+  expectWithinBurgerLimits(approach);
+  size_t forward = 0;
+  for (const geometry_msgs::Twist& c : approach) {
+    forward += c.linear.x > 0;
+    EXPECT_LT(std::abs(c.angular.z), 0.2) << "the tag is straight ahead";
+  }
+  EXPECT_GE(forward, approach.size() * 3 / 4) << "approaching (a missed detection gives a zero)";
+  std::printf("[figures] node tag goal at 1.2 m: %zu commands for 30 images, %zu forward, first v %.3f m/s\n",
+              approach.size(), forward, approach.empty() ? 0.0 : approach.front().linear.x);
+
+  client.forget();
+  player.playViews(room, facingTheTag(room, 0.5), 20);
+  const std::vector<geometry_msgs::Twist> at_standoff = waitForCommands(client, 1);
+  ASSERT_GE(at_standoff.size(), 1u);
+  EXPECT_EQ(at_standoff.back().linear.x, 0);
+  EXPECT_EQ(at_standoff.back().angular.z, 0);
+  // The first image seen at the standoff ends it: at most a few zeros of missed detections before.
+  for (const geometry_msgs::Twist& c : at_standoff) EXPECT_EQ(c.linear.x, 0);
+  client.forget();
+  player.playViews(room, facingTheTag(room, 1.2), 10);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  EXPECT_TRUE(client.commands().empty()) << "the tag goal is over: nothing more";
+
+  // A new tag goal, then ~cancel: one zero command and nothing after it.
+  sendTagGoal(room.options().tag_id);
+  player.playViews(room, facingTheTag(room, 1.2), 10);
+  EXPECT_FALSE(waitForCommands(client, 5).empty());
+  client.cancel();
+  const std::vector<geometry_msgs::Twist> stop = waitForCommands(client, 1);
+  ASSERT_EQ(stop.size(), 1u) << "one zero command on cancel";
+  EXPECT_EQ(stop[0].linear.x, 0);
+  EXPECT_EQ(stop[0].angular.z, 0);
+  player.playViews(room, facingTheTag(room, 1.2), 10);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  EXPECT_EQ(client.commands().size(), 1u) << "nothing after the cancel";
+
+  // Shutdown while approaching: the last command is a zero.
+  sendTagGoal(room.options().tag_id);
+  player.playViews(room, facingTheTag(room, 1.2), 10);
+  stopNode(node);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  const std::vector<geometry_msgs::Twist> before_shutdown = client.commands();
+  ASSERT_GE(before_shutdown.size(), 2u) << "driving, then the stop";
   EXPECT_EQ(before_shutdown.back().linear.x, 0);
   EXPECT_EQ(before_shutdown.back().angular.z, 0) << "a zero command at shutdown";
 }

@@ -64,6 +64,10 @@ NodeSettings NodeSettings::fromParameters(const ros::NodeHandle& pnh) {
   servo.position_tolerance = param(pnh, "goal_tolerance", servo.position_tolerance);
   servo.yaw_tolerance_deg = param(pnh, "goal_yaw_tolerance", servo.yaw_tolerance_deg);
   s.follow.frame_timeout_s = param(pnh, "frame_timeout", s.follow.frame_timeout_s);
+  s.tag_follow.servo.limits = servo.limits;
+  s.tag_follow.frame_timeout_s = s.follow.frame_timeout_s;
+  s.tag_follow.servo.standoff = param(pnh, "tag_standoff", s.tag_follow.servo.standoff);
+  s.tag_size = param(pnh, "tag_size", s.tag_size);
   s.session.live_maps = s.dense;
   s.session.maps_dir = s.out;
   if (s.session.queue < 1 || s.sync_queue < 1 || s.sparse_period_s <= 0 || s.session.map_frame_keyframes < 1)
@@ -71,11 +75,14 @@ NodeSettings NodeSettings::fromParameters(const ros::NodeHandle& pnh) {
   if (servo.limits.v_max <= 0 || servo.limits.w_max <= 0 || servo.position_tolerance <= 0 ||
       servo.yaw_tolerance_deg <= 0 || s.follow.frame_timeout_s <= 0)
     throw ConfigError("plslam_ros: max_linear, max_angular, goal_tolerance, goal_yaw_tolerance and frame_timeout must be > 0");
+  if (!(s.tag_follow.servo.standoff > 0) || !(s.tag_size > 0))
+    throw ConfigError("plslam_ros: tag_standoff and tag_size must be > 0");
   return s;
 }
 
 RosNode::RosNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeSettings settings)
-    : nh_(nh), pnh_(pnh), settings_(std::move(settings)), tf_listener_(tf_buffer_), follower_(settings_.follow) {
+    : nh_(nh), pnh_(pnh), settings_(std::move(settings)), tf_listener_(tf_buffer_), follower_(settings_.follow),
+      tag_follower_(settings_.tag_follow) {
   config_ = makeRunConfig(settings_.switches, "plslam_ros: effective configuration");
   camera_pose_pub_ = pnh_.advertise<geometry_msgs::PoseStamped>("camera_pose", 10);
   base_pose_pub_ = pnh_.advertise<geometry_msgs::PoseStamped>("base_pose", 10);
@@ -89,6 +96,7 @@ RosNode::RosNode(ros::NodeHandle nh, ros::NodeHandle pnh, NodeSettings settings)
   cmd_vel_pub_ = nh_.advertise<geometry_msgs::Twist>("cmd_vel", 10);
   goal_sub_ = pnh_.subscribe("goal", 1, &RosNode::onGoal, this);
   cancel_sub_ = pnh_.subscribe("cancel", 1, &RosNode::onCancel, this);
+  tag_goal_sub_ = pnh_.subscribe("tag_goal", 1, &RosNode::onTagGoal, this);
   follower_timer_ = nh_.createWallTimer(ros::WallDuration(0.1), &RosNode::onFollowerTimer, this);
   save_srv_ = pnh_.advertiseService("save_map", &RosNode::onSave, this);
   reset_srv_ = pnh_.advertiseService("reset", &RosNode::onReset, this);
@@ -191,7 +199,9 @@ void RosNode::onImages(const sensor_msgs::ImageConstPtr& colour, const sensor_ms
   frame.t_ns = toNs(colour->header.stamp);
   frame.index = static_cast<int>(colour->header.seq);
   frame.name = colour_sub_.getTopic();
+  const cv::Mat bgr = frame.bgr;  // shares the pixels: the session does not write them
   s->push(std::move(frame));
+  followTag(bgr);
 }
 
 void RosNode::onFrame(const FrameOutcome& frame) {
@@ -385,6 +395,7 @@ void RosNode::onGoal(const geometry_msgs::PoseStampedConstPtr& goal) {
   const PlanarPose planar = GoalFollower::planarGoal(*T_map_goal);
   std::lock_guard<std::mutex> lock(follower_mutex_);
   if (finishing_) return;
+  tag_follower_.cancel();  // one drives at a time; the goal's commands follow at the next frame
   follower_.setGoal(planar, steadySeconds());
   ROS_INFO("plslam_ros: goal x %.3f y %.3f yaw %.1f deg in %s: driving on %s", planar.x, planar.y,
            planar.yaw * 180 / M_PI, settings_.map_frame.c_str(), cmd_vel_pub_.getTopic().c_str());
@@ -407,6 +418,50 @@ std::optional<SE3> RosNode::goalInMap(const geometry_msgs::PoseStamped& goal) {
 
 void RosNode::onCancel(const std_msgs::EmptyConstPtr&) { dropGoal("cancelled"); }
 
+void RosNode::onTagGoal(const std_msgs::Int32ConstPtr& tag) {
+  // The servo needs the camera's mounting, which the session's start settles.
+  if (!session()) {
+    ROS_WARN("plslam_ros: tag goal %d ignored: no camera yet", tag->data);
+    return;
+  }
+  if (tag->data < 0) {
+    ROS_WARN("plslam_ros: tag goal %d ignored: not a tag36h11 id", tag->data);
+    return;
+  }
+  std::lock_guard<std::mutex> lock(follower_mutex_);
+  if (finishing_) return;
+  follower_.cancel();  // one drives at a time; the tag servo's commands follow at the next image
+  tag_follower_.setTarget(tag->data, frames_.T_base_cam(), steadySeconds());
+  ROS_INFO("plslam_ros: tag goal %d (tag36h11, %.3f m): approaching to %.2f m, driving on %s", tag->data,
+           settings_.tag_size, settings_.tag_follow.servo.standoff, cmd_vel_pub_.getTopic().c_str());
+}
+
+void RosNode::followTag(const cv::Mat& bgr) {
+  int tag_id = -1;
+  {
+    std::lock_guard<std::mutex> lock(follower_mutex_);
+    if (finishing_) return;
+    tag_id = tag_follower_.tagId();
+  }
+  if (tag_id < 0) return;  // no tag goal: no detection cost
+  const std::optional<SE3> T_c_tag = detectTag(tag_id, bgr);
+  std::lock_guard<std::mutex> lock(follower_mutex_);
+  // The target may have changed during the detection: this one is not about it.
+  if (finishing_ || tag_follower_.tagId() != tag_id) return;
+  if (const std::optional<TagFollowCommand> command = tag_follower_.update(T_c_tag, steadySeconds()))
+    sendTagCommand(*command);
+}
+
+std::optional<SE3> RosNode::detectTag(int tag_id, const cv::Mat& bgr) {
+  std::lock_guard<std::mutex> lock(detector_mutex_);
+  std::unique_ptr<TagPoseDetector>& detector = detectors_[tag_id];
+  if (!detector) {
+    std::lock_guard<std::mutex> start_lock(start_mutex_);  // camera_ is set once, before the session
+    detector = std::make_unique<TagPoseDetector>(*camera_, tag_id, settings_.tag_size);
+  }
+  return detector->detect(bgr);
+}
+
 void RosNode::followGoal(const std::optional<SE3>& T_map_base) {
   std::lock_guard<std::mutex> lock(follower_mutex_);
   if (finishing_) return;  // finish() has sent the last command
@@ -416,23 +471,30 @@ void RosNode::followGoal(const std::optional<SE3>& T_map_base) {
 void RosNode::onFollowerTimer(const ros::WallTimerEvent&) {
   std::lock_guard<std::mutex> lock(follower_mutex_);
   if (finishing_) return;
-  if (const std::optional<FollowCommand> command = follower_.checkFrames(steadySeconds())) sendCommand(*command);
+  const double now = steadySeconds();
+  if (const std::optional<FollowCommand> command = follower_.checkFrames(now)) sendCommand(*command);
+  if (const std::optional<TagFollowCommand> command = tag_follower_.checkFrames(now)) sendTagCommand(*command);
 }
 
 bool RosNode::dropGoal(const char* why) {
   std::lock_guard<std::mutex> lock(follower_mutex_);
   const std::optional<FollowCommand> command = follower_.cancel();
-  if (!command) return false;
-  sendCommand(*command);
+  const std::optional<TagFollowCommand> tag_command = tag_follower_.cancel();
+  if (!command && !tag_command) return false;
+  publishVelocity(VelocityCommand());  // at most one was driving: one zero command
   ROS_INFO("plslam_ros: goal dropped (%s): zero velocity sent", why);
   return true;
 }
 
-void RosNode::sendCommand(const FollowCommand& command) {
+void RosNode::publishVelocity(const VelocityCommand& command) {
   geometry_msgs::Twist twist;
-  twist.linear.x = command.command.v;
-  twist.angular.z = command.command.w;
+  twist.linear.x = command.v;
+  twist.angular.z = command.w;
   cmd_vel_pub_.publish(twist);
+}
+
+void RosNode::sendCommand(const FollowCommand& command) {
+  publishVelocity(command.command);
   if (command.stop == FollowStop::kReached)
     ROS_INFO("plslam_ros: goal reached (%.3f m, %.1f deg off): stopped", command.step.position_error,
              command.step.yaw_error * 180 / M_PI);
@@ -441,6 +503,19 @@ void RosNode::sendCommand(const FollowCommand& command) {
   else if (command.stop == FollowStop::kNoFrames)
     ROS_WARN("plslam_ros: no frame for %.1f s: stopped, the goal is dropped (send it again)",
              settings_.follow.frame_timeout_s);
+}
+
+void RosNode::sendTagCommand(const TagFollowCommand& command) {
+  publishVelocity(command.command);
+  if (command.stop == FollowStop::kReached)
+    ROS_INFO("plslam_ros: tag standoff reached (%.3f m, %.1f deg off): stopped", command.step.depth_error,
+             command.step.bearing * 180 / M_PI);
+  else if (command.stop == FollowStop::kLost)
+    ROS_WARN("plslam_ros: tag not seen for %.1f s: stopped, the tag goal is dropped (send it again)",
+             settings_.tag_follow.frame_timeout_s);
+  else if (command.stop == FollowStop::kNoFrames)
+    ROS_WARN("plslam_ros: no image for %.1f s: stopped, the tag goal is dropped (send it again)",
+             settings_.tag_follow.frame_timeout_s);
 }
 
 bool RosNode::finish() {

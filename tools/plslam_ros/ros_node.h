@@ -7,6 +7,10 @@
 // Velocity out: a goal on ~goal drives the base there with the pose servo on the SLAM base
 // pose (servo/goal_follower.h, which holds the rules: nothing on cmd_vel without a goal, one
 // zero command when the goal is reached, tracking is lost, on ~cancel, ~reset and shutdown).
+// A tag id on ~tag_goal drives the base to the standoff in front of that AprilTag with the
+// tag servo on its detections in the colour images (servo/tag_follower.h, the same rules; a
+// missed detection holds the base still). One drives at a time: a goal replaces a tag goal
+// and the other way round.
 //
 // Thread safety: the subscriber, timer and service callbacks run on the spinner's threads;
 // publishing from the SLAM thread goes through roscpp publishers, which are thread-safe.
@@ -14,7 +18,8 @@
 // pair; startSession under start_mutex_) under session_mutex_. The services (save_map,
 // reset, localize) call the session, which applies them between two frames. The goal
 // follower is shared by the SLAM thread (a command per frame) and the goal, cancel and reset
-// callbacks, under follower_mutex_.
+// callbacks, under follower_mutex_; so is the tag follower, fed by the image callback (the
+// detection itself runs outside that lock, under detector_mutex_).
 #pragma once
 
 #include <geometry_msgs/PoseStamped.h>
@@ -27,6 +32,7 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <std_msgs/Empty.h>
+#include <std_msgs/Int32.h>
 #include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/buffer.h>
@@ -34,6 +40,7 @@
 #include <tf2_ros/transform_listener.h>
 
 #include <atomic>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -41,6 +48,8 @@
 
 #include "core/json.h"
 #include "servo/goal_follower.h"
+#include "servo/tag_follower.h"
+#include "servo_sim/tag_pose.h"
 #include "session/live_session.h"
 #include "session/robot_frames.h"
 
@@ -61,6 +70,8 @@ struct NodeSettings {
   bool publish_tf = true;
   bool dense = true;               ///< dense products while running (published, written to out) and at shutdown
   GoalFollowerOptions follow;      ///< max_linear, max_angular (TurtleBot3 Burger), goal_tolerance, goal_yaw_tolerance, frame_timeout
+  TagFollowerOptions tag_follow;   ///< tag_standoff; the limits and frame_timeout are follow's
+  double tag_size = 0.25;          ///< edge of the tags' black border, metres (TagRoom's)
 
   static NodeSettings fromParameters(const ros::NodeHandle& pnh);
 };
@@ -100,17 +111,26 @@ class RosNode {
   bool onLocalize(std_srvs::SetBool::Request& request, std_srvs::SetBool::Response& response);
   void onGoal(const geometry_msgs::PoseStampedConstPtr& goal);
   void onCancel(const std_msgs::EmptyConstPtr&);
+  void onTagGoal(const std_msgs::Int32ConstPtr& tag);
+  /// The tag follower's command for a colour image (image callback), when a tag goal is active.
+  void followTag(const cv::Mat& bgr);
+  /// T_c_tag of tag `tag_id` in `bgr`, none when not seen whole; a detector per id, made at
+  /// its first use with the session's camera.
+  std::optional<SE3> detectTag(int tag_id, const cv::Mat& bgr);
   /// The goal pose in the map frame: as given in it (or without a frame_id), else through TF.
   std::optional<SE3> goalInMap(const geometry_msgs::PoseStamped& goal);
   /// The follower's command for a frame (SLAM thread); base pose none when not tracked.
   void followGoal(const std::optional<SE3>& T_map_base);
   /// Stops the base when the frames stopped coming while driving.
   void onFollowerTimer(const ros::WallTimerEvent&);
-  /// Drops the goal (cancel, reset, shutdown), sending the zero command when one was driven
-  /// (then true).
+  /// Drops the goal or tag goal (cancel, reset, shutdown), sending the zero command when one
+  /// was driven (then true).
   bool dropGoal(const char* why);
   /// Publishes a command on cmd_vel and logs the end of a goal; under follower_mutex_.
   void sendCommand(const FollowCommand& command);
+  /// The same for the tag follower's commands; under follower_mutex_.
+  void sendTagCommand(const TagFollowCommand& command);
+  void publishVelocity(const VelocityCommand& command);
   Json statsExtra() const;
   LiveSession* session() const;
 
@@ -124,7 +144,7 @@ class RosNode {
   ros::Publisher camera_pose_pub_, base_pose_pub_, path_pub_, points_pub_, lines_pub_, status_pub_;
   ros::Publisher dense_cloud_pub_, grid_pub_;
   ros::Publisher cmd_vel_pub_;
-  ros::Subscriber goal_sub_, cancel_sub_;
+  ros::Subscriber goal_sub_, cancel_sub_, tag_goal_sub_;
   ros::ServiceServer save_srv_, reset_srv_, localize_srv_;
   ros::WallTimer sparse_timer_, follower_timer_;
   tf2_ros::Buffer tf_buffer_;
@@ -144,6 +164,9 @@ class RosNode {
   std::atomic<bool> finishing_{false};
   std::mutex follower_mutex_;
   GoalFollower follower_;               // under follower_mutex_
+  TagFollower tag_follower_;            // under follower_mutex_; at most one of the two active
+  std::mutex detector_mutex_;
+  std::map<int, std::unique_ptr<TagPoseDetector>> detectors_;  // under detector_mutex_: by tag id
 };
 
 }  // namespace plslam::ros1
