@@ -14,9 +14,8 @@ namespace plslam {
 class FrameRecorder {
  public:
   virtual ~FrameRecorder() = default;
-  /// Writes (or queues) one frame; its colour and depth must fit the recorder's camera
-  /// (the bag writer checks that and throws DataError; the TUM folder does not check).
-  /// Throws IoError when writing failed.
+  /// Writes (or queues) one frame. Throws DataError, and records nothing of it, when its
+  /// colour or depth does not fit the recorder's camera; IoError when writing failed.
   virtual void add(const RgbdFrame& frame) = 0;
   /// Writes what is queued and closes the recording; rethrows a write failure. Idempotent.
   virtual void close() = 0;

@@ -56,14 +56,15 @@ void OptionTable::add(Entry e) {
 
 void OptionTable::bind(const std::string& key, int* f, const std::string& doc) {
   add({key, doc, "int", [f](const std::string& v) { *f = static_cast<int>(parseLong(v)); },
-       [f] { return std::to_string(*f); }});
+       [f] { return std::to_string(*f); }, fieldSpan(f)});
 }
 void OptionTable::bind(const std::string& key, double* f, const std::string& doc) {
-  add({key, doc, "number", [f](const std::string& v) { *f = parseDouble(v); }, [f] { return formatDouble(*f); }});
+  add({key, doc, "number", [f](const std::string& v) { *f = parseDouble(v); }, [f] { return formatDouble(*f); },
+       fieldSpan(f)});
 }
 void OptionTable::bind(const std::string& key, float* f, const std::string& doc) {
   add({key, doc, "number", [f](const std::string& v) { *f = static_cast<float>(parseDouble(v)); },
-       [f] { return formatDouble(*f); }});
+       [f] { return formatDouble(*f); }, fieldSpan(f)});
 }
 void OptionTable::bind(const std::string& key, bool* f, const std::string& doc) {
   add({key, doc, "bool",
@@ -72,15 +73,21 @@ void OptionTable::bind(const std::string& key, bool* f, const std::string& doc) 
          else if (v == "false" || v == "no" || v == "off" || v == "0") *f = false;
          else throw std::invalid_argument("expected true or false");
        },
-       [f] { return std::string(*f ? "true" : "false"); }});
+       [f] { return std::string(*f ? "true" : "false"); }, fieldSpan(f)});
 }
 void OptionTable::bind(const std::string& key, std::string* f, const std::string& doc) {
-  add({key, doc, "text", [f](const std::string& v) { *f = v; }, [f] { return yamlQuoted(*f); }});
+  add({key, doc, "text", [f](const std::string& v) { *f = v; }, [f] { return yamlQuoted(*f); }, fieldSpan(f)});
 }
 
-void OptionTable::bindCustom(const std::string& key, std::function<void(const std::string&)> set,
+void OptionTable::bindCustom(const std::string& key, FieldSpan field, std::function<void(const std::string&)> set,
                              std::function<std::string()> get, const std::string& type, const std::string& doc) {
-  add({key, doc, type, std::move(set), [get = std::move(get)] { return yamlQuoted(get()); }});
+  add({key, doc, type, std::move(set), [get = std::move(get)] { return yamlQuoted(get()); }, field});
+}
+
+std::vector<FieldSpan> OptionTable::boundFields() const {
+  std::vector<FieldSpan> out;
+  for (const Entry& e : entries_) out.push_back(e.field);
+  return out;
 }
 
 void OptionTable::set(const std::string& key, const std::string& value, const std::string& source) {

@@ -3,12 +3,24 @@
 // and writes the effective configuration back out with each field's doc line.
 #pragma once
 
+#include <cstddef>
 #include <functional>
 #include <map>
 #include <string>
 #include <vector>
 
 namespace plslam {
+
+/// The bytes of the field a key sets: what lets a test check that every field of an options
+/// struct has a key (OptionTable::boundFields).
+struct FieldSpan {
+  const void* at = nullptr;
+  size_t size = 0;
+};
+template <typename T>
+FieldSpan fieldSpan(const T* field) {
+  return {field, sizeof(T)};
+}
 
 class OptionTable {
  public:
@@ -18,12 +30,12 @@ class OptionTable {
   void bind(const std::string& key, float* field, const std::string& doc);
   void bind(const std::string& key, bool* field, const std::string& doc);
   void bind(const std::string& key, std::string* field, const std::string& doc);
-  /// Binds `key` to a value of the caller's kind: `set` parses the text and throws
+  /// Binds `key` to `field`, a value of the caller's kind: `set` parses the text and throws
   /// std::invalid_argument saying what it expected (the table turns that into a ConfigError
   /// naming the key); `get` gives the value back as text (written quoted). `type` names the
   /// accepted values in messages ("none, replay or yolo").
-  void bindCustom(const std::string& key, std::function<void(const std::string&)> set, std::function<std::string()> get,
-                  const std::string& type, const std::string& doc);
+  void bindCustom(const std::string& key, FieldSpan field, std::function<void(const std::string&)> set,
+                  std::function<std::string()> get, const std::string& type, const std::string& doc);
 
   /// Sets one option from text. Throws ConfigError naming `source` and the key when the key
   /// is unknown or the value does not parse as the field's type.
@@ -31,6 +43,8 @@ class OptionTable {
   /// Applies every key of `values` (flat "section.key" names).
   void apply(const std::map<std::string, std::string>& values, const std::string& source);
   bool has(const std::string& key) const { return index_.count(key) > 0; }
+  /// The fields bound, in binding order.
+  std::vector<FieldSpan> boundFields() const;
 
   /// The effective configuration as YAML: one section per prefix, a doc comment per key.
   std::string toYaml(const std::string& header_comment = "") const;
@@ -40,6 +54,7 @@ class OptionTable {
     std::string key, doc, type;
     std::function<void(const std::string&)> set;  // throws std::invalid_argument on a bad value
     std::function<std::string()> get;
+    FieldSpan field;
   };
   void add(Entry e);
   std::vector<Entry> entries_;

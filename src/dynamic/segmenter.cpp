@@ -52,7 +52,7 @@ std::vector<std::string> splitClassNames(const std::string& list) {
 
 void bindSegmenterOptions(OptionTable* t, SegmenterOptions* o) {
   t->bindCustom(
-      "segmenter.backend",
+      "segmenter.backend", fieldSpan(&o->kind),
       [o](const std::string& v) {
         try {
           o->kind = parseSegmenterKind(v);
@@ -67,7 +67,7 @@ void bindSegmenterOptions(OptionTable* t, SegmenterOptions* o) {
   t->bind("segmenter.classes", &o->classes_file,
           "class names file, one a line, in the model's order (empty: the COCO names; --classes overrides it)");
   t->bindCustom(
-      "segmenter.dynamic_classes",
+      "segmenter.dynamic_classes", fieldSpan(&o->dynamic_classes),
       [o](const std::string& v) {
         if (splitClassNames(v).empty()) o->dynamic_classes.reset();
         else o->dynamic_classes = splitClassNames(v);

@@ -24,6 +24,10 @@ void bindFeatureOptions(OptionTable* t, FeatureOptions* o) {
   t->bind("features.line_merge_angle_deg", &o->lines.merge_angle_deg, "merge fragments closer than this in direction (deg)");
   t->bind("features.line_merge_distance_px", &o->lines.merge_distance_px, "merge fragments this close to each other's line (px)");
   t->bind("features.line_merge_gap_px", &o->lines.merge_gap_px, "merge fragments at most this far apart along the line (px)");
+  t->bind("features.orb_cell_size", &o->orb.cell_size,
+          "side of the grid cells (level pixels) where FAST is retried at the low threshold");
+  t->bind("features.line_lsd_refine", &o->lines.lsd_refine, "LSD: its own refinement (slower; the merge does most of its job)");
+  t->bind("features.min_depth_m", &o->min_depth_m, "depth readings below this count as none (m)");
   t->bind("features.parallel", &o->parallel, "extract points and lines on two threads");
 }
 

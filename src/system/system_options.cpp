@@ -49,6 +49,10 @@ void bindTrackerOptions(OptionTable* t, TrackerOptions* o) {
           "keyframes of the whole map relocalisation tries, most similar first");
   t->bind("tracker.relocalisation_min_relative_score", &tr.relocalisation.min_relative_score,
           "and only those scoring at least this fraction of the most similar");
+  t->bind("tracker.relocalisation_point_weight", &tr.relocalisation.point_weight,
+          "weight of the ORB similarity when relocalisation ranks keyframes");
+  t->bind("tracker.relocalisation_line_weight", &tr.relocalisation.line_weight,
+          "weight of the LBD similarity (when both sides have lines)");
   t->bind("tracker.reanchor_after_s", &tr.reanchor_after_s,
           "lost this long (s) and not relocalised: track on from a new keyframe at the last pose (0: never)");
   t->bind("tracker.pose_rounds", &tr.optimizer.rounds, "pose optimisation outlier rounds");
@@ -81,6 +85,11 @@ void bindDynamicOptions(OptionTable* t, SystemOptions* o) {
   t->bind("dynamic.propagate_masks", &d.propagate_masks, "carry late masks (threaded mode, or replay_latency_frames > 0) to the current frame by optical flow per instance");
   t->bind("dynamic.yolo_confidence", &o->segmenter.yolo.confidence, "YOLOv8-seg minimum class score");
   t->bind("dynamic.yolo_nms_iou", &o->segmenter.yolo.nms_iou, "YOLOv8-seg class-aware NMS overlap");
+  t->bind("dynamic.yolo_mask_threshold", &o->segmenter.yolo.mask_threshold,
+          "YOLOv8-seg mask probability above which a pixel is the instance's");
+  t->bind("dynamic.yolo_max_instances", &o->segmenter.yolo.max_instances, "YOLOv8-seg instances kept per image (the best scores)");
+  t->bind("dynamic.yolo_input_size", &o->segmenter.yolo.input_size,
+          "YOLOv8-seg square input side for a model whose input size is symbolic (0: read it from the model)");
   bindSegmenterOptions(t, &o->segmenter);
 }
 

@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <opencv2/imgproc.hpp>
 
 #include "camera/camera_file.h"
 #include "capture/frame_grabber.h"
@@ -131,4 +132,37 @@ TEST(RealSense, UnavailableBuildSaysWhyAndHow) {
   } catch (const ConfigError& e) {
     EXPECT_EQ(std::string(e.what()), message);
   }
+}
+
+// A frame that does not fit the recorder's camera (a grabber bug, a changed resolution) is
+// refused with a DataError naming the sizes; the frames before it are kept and read back.
+TEST(TumRecorder, RefusesAFrameOfAnotherSizeAndKeepsTheOthers) {
+  const std::string dir = test::syntheticSequence(synth::SceneKind::kStatic, 120);
+  const PinholeCamera camera = loadCameraFile(dir + "/camera.xml");
+  const std::string out = test::scratchDir("recorder_size") + "/rec";
+  DatasetOptions dopt;
+  dopt.max_frames = 3;
+  dopt.load_masks = false;
+  TumDataset source = TumDataset::open(dir, camera, dopt);
+  TumRecorder recorder(out, camera);
+  RgbdFrame f;
+  ASSERT_TRUE(source.next(&f));
+  recorder.add(f);
+  ASSERT_TRUE(source.next(&f));
+  RgbdFrame half = f;
+  cv::resize(f.bgr, half.bgr, cv::Size(), 0.5, 0.5);
+  try {
+    recorder.add(half);
+    FAIL() << "a " << half.bgr.cols << "x" << half.bgr.rows << " frame was recorded for a " << camera.width << "x"
+           << camera.height << " camera";
+  } catch (const DataError& e) {
+    EXPECT_NE(std::string(e.what()).find(std::to_string(half.bgr.cols) + "x" + std::to_string(half.bgr.rows)),
+              std::string::npos)
+        << e.what();
+  }
+  ASSERT_TRUE(source.next(&f));
+  recorder.add(f);
+  recorder.close();
+  EXPECT_EQ(recorder.written(), 2);
+  EXPECT_EQ(TumDataset::open(out, loadCameraFile(out + "/camera.xml")).size(), 2u);
 }
