@@ -4,6 +4,7 @@
 #include <cmath>
 #include <opencv2/calib3d.hpp>
 #include <set>
+#include <unordered_map>
 #include <unordered_set>
 
 #include "core/error.h"
@@ -142,7 +143,7 @@ TrackingResult Tracker::trackInitialised(TimeNs t_ns, const FrameFeatures& f) {
   } else {
     r.matched_points = matchedCount(m.point_ids);
     r.matched_lines = matchedCount(m.line_ids);
-    updateReferenceKeyframe(m);
+    reference_kf_ = keyframeSharingMost(m, reference_kf_);
   }
   r.inliers = r.matched_points + r.matched_lines;
   r.T_w_c = T_w_c;
@@ -157,6 +158,7 @@ TrackingResult Tracker::trackInitialised(TimeNs t_ns, const FrameFeatures& f) {
   t_last_ns_ = t_ns;
   ++frames_since_kf_;
   const StageTimer keyframe_timer(&times_, Stage::kKeyframe);
+  if (!options_.localization_only) place_kf_ = keyframeSharingMost(m, reference_kf_);
   if (!options_.localization_only && needKeyframe(T_w_c, r.inliers)) {
     r.keyframe_id = makeKeyframe(t_ns, T_w_c, f, m);
     r.new_keyframe = true;
@@ -420,15 +422,18 @@ std::vector<Id> Tracker::localKeyframes() {
   return out;
 }
 
-void Tracker::updateReferenceKeyframe(const Matches& m) {
+Id Tracker::keyframeSharingMost(const Matches& m, Id fallback) const {
   std::lock_guard<std::mutex> lock(map_->mutex());
-  std::map<Id, int> shared;
+  std::unordered_map<Id, int> shared;
   for (Id id : m.point_ids)
     if (const MapPoint* p = id == kNoId ? nullptr : map_->point(id))
       for (const auto& [kf, idx] : p->observations) ++shared[kf];
+  // Ties go to the newer keyframe: while the camera explores, that is the one it made last.
+  Id best_kf = fallback;
   int best = 0;
   for (const auto& [kf, n] : shared)
-    if (n > best) best = n, reference_kf_ = kf;
+    if (n > best || (n == best && kf > best_kf)) best = n, best_kf = kf;
+  return best_kf;
 }
 
 Tracker::LocalMap Tracker::collectLocalMap() {
@@ -647,15 +652,36 @@ bool Tracker::needKeyframe(const SE3& T_w_c, int inliers) const {
   // A weakly supported pose (a blurred frame held by a few matches) would seed the map with
   // landmarks placed by that pose: wait for a frame that is tracked firmly.
   if (inliers < options_.keyframe_min_support) return false;
-  if (frames_since_kf_ >= options_.keyframe_max_frames) return true;
-  if (inliers < options_.keyframe_min_inliers) return true;
-  if (inliers < options_.keyframe_inlier_ratio * reference_kf_landmarks_) return true;
   std::lock_guard<std::mutex> lock(map_->mutex());
-  const KeyFrame* ref = map_->keyframe(reference_kf_);
+  // A frame sharing the most landmarks with a keyframe older than the recent ones sees a
+  // place mapped before (a revisit): it needs a keyframe only when it tracks weakly or has
+  // moved away from that keyframe, not by time, else every lap of a room adds keyframes.
+  const bool revisit = place_kf_ != kNoId && map_->keyframe(place_kf_) && !isRecentKeyframe(place_kf_);
+  if (!revisit && frames_since_kf_ >= options_.keyframe_max_frames) return true;
+  if (inliers < options_.keyframe_min_inliers) return true;
+  if (inliers < options_.keyframe_inlier_ratio * (revisit ? landmarksOf(place_kf_) : reference_kf_landmarks_))
+    return true;
+  const KeyFrame* ref = map_->keyframe(revisit ? place_kf_ : reference_kf_);
   if (!ref) return true;
   const SE3 T_ref_c = ref->T_w_c.inverse() * T_w_c;
   return T_ref_c.translation().norm() > options_.keyframe_max_translation_m ||
          T_ref_c.angle() * 180.0 / M_PI > options_.keyframe_max_rotation_deg;
+}
+
+bool Tracker::isRecentKeyframe(Id kf) const {
+  const auto& kfs = map_->keyframes();
+  int n = 0;
+  for (auto it = kfs.rbegin(); it != kfs.rend() && n < options_.local_keyframes; ++it, ++n)
+    if (it->first == kf) return true;
+  return false;
+}
+
+int Tracker::landmarksOf(Id kf) const {
+  const auto it = keyframe_landmarks_.find(kf);
+  if (it != keyframe_landmarks_.end()) return it->second;
+  const KeyFrame* k = map_->keyframe(kf);  // a keyframe of a loaded map: the points it observes
+  return k ? static_cast<int>(std::count_if(k->point_ids.begin(), k->point_ids.end(), [](Id id) { return id != kNoId; }))
+           : 0;
 }
 
 Id Tracker::makeKeyframe(TimeNs t_ns, const SE3& T_w_c, const FrameFeatures& f, const Matches& m) {
@@ -692,6 +718,7 @@ Id Tracker::makeKeyframe(TimeNs t_ns, const SE3& T_w_c, const FrameFeatures& f, 
   // What later frames are compared with: the landmarks this keyframe was tracked with
   // (the first keyframe has only the ones it created).
   reference_kf_landmarks_ = tracked > 0 ? tracked : created;
+  keyframe_landmarks_[id] = reference_kf_landmarks_;
   frames_since_kf_ = 0;
   return id;
 }

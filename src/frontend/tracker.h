@@ -31,6 +31,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "camera/pinhole_camera.h"
@@ -83,7 +84,7 @@ struct TrackerOptions {
   int local_keyframes = 12;          ///< keyframes whose landmarks form the local map
   int covisible_min_shared = 15;     ///< keyframes sharing this many points with the reference are its covisible ones
   double near_plane_m = 0.1;         ///< landmarks closer to the camera than this are not projected
-  int keyframe_max_frames = 20;      ///< a keyframe at least this often (frames)
+  int keyframe_max_frames = 20;      ///< a keyframe at least this often (frames), except on a revisit (the frame shares most with a keyframe older than the local_keyframes newest)
   int keyframe_min_frames = 2;       ///< and never more often than this
   double keyframe_inlier_ratio = 0.75;  ///< new keyframe when inliers < ratio * reference keyframe's landmarks
   int keyframe_min_inliers = 120;    ///< or when fewer inliers than this remain
@@ -241,9 +242,14 @@ class Tracker {
   void countVisibleAndFound(const Matches& m, TrackingResult* r);
   PoseOnlyResult optimise(const SE3& T_w_c, const FrameFeatures& f, Matches* m);
   Attempt relocalise(const FrameFeatures& f, Matches* m);
-  /// Localisation only: the keyframe sharing the most landmarks with the tracked frame.
-  void updateReferenceKeyframe(const Matches& m);
+  /// The keyframe sharing the most landmarks with the tracked frame (`fallback` if none):
+  /// the reference in localisation, the place of the frame for the keyframe rules.
+  Id keyframeSharingMost(const Matches& m, Id fallback) const;
   bool needKeyframe(const SE3& T_w_c, int inliers) const;
+  /// The landmarks keyframe `kf` was tracked with when it was made (map lock held).
+  int landmarksOf(Id kf) const;
+  /// `kf` is one of the local_keyframes newest keyframes (map lock held).
+  bool isRecentKeyframe(Id kf) const;
   Id makeKeyframe(TimeNs t_ns, const SE3& T_w_c, const FrameFeatures& f, const Matches& m);
 
   Map* map_;
@@ -260,6 +266,8 @@ class Tracker {
   Id reference_kf_ = kNoId;
   int frames_since_kf_ = 0;
   int reference_kf_landmarks_ = 0;
+  Id place_kf_ = kNoId;  // the keyframe sharing the most landmarks with the last tracked frame
+  std::unordered_map<Id, int> keyframe_landmarks_;  // per keyframe made here: the landmarks it was tracked with
   int lost_events_ = 0, relocalisations_ = 0, reanchors_ = 0;
   bool search_all_keyframes_ = false;  // relocalise against every keyframe (loaded map, not tracked yet)
   StageTimes times_;  // the current frame's stage times (searchLocalMap and optimise add to them)

@@ -22,7 +22,7 @@ void bindTrackerOptions(OptionTable* t, TrackerOptions* o) {
   t->bind("tracker.covisible_min_shared", &tr.covisible_min_shared,
           "keyframes sharing this many points with the reference keyframe join the local map");
   t->bind("tracker.near_plane_m", &tr.near_plane_m, "landmarks nearer the camera than this are not projected (m)");
-  t->bind("tracker.keyframe_max_frames", &tr.keyframe_max_frames, "a keyframe at least every this many frames");
+  t->bind("tracker.keyframe_max_frames", &tr.keyframe_max_frames, "a keyframe at least every this many frames, except on a revisit (the frame shares most landmarks with an older keyframe than the newest)");
   t->bind("tracker.keyframe_min_frames", &tr.keyframe_min_frames, "never a keyframe more often than this");
   t->bind("tracker.keyframe_inlier_ratio", &tr.keyframe_inlier_ratio, "keyframe when inliers < ratio * the reference keyframe's");
   t->bind("tracker.keyframe_min_inliers", &tr.keyframe_min_inliers, "keyframe when fewer inliers than this");
