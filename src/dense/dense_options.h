@@ -39,6 +39,7 @@ struct DenseOptions {
   double floor_inlier_m = 0.02;       ///< ransac: inlier distance to a plane (m)
   double floor_search_fraction = 0.3; ///< ransac: the floor is searched among this lowest fraction of the points along the prior up (1: all)
   double floor_min_fraction = 0.05;   ///< ransac: a plane needs this fraction of the searched points to be a floor candidate
+  double floor_max_above_base_m = 0.10;  ///< ransac with a camera-to-base transform: a plane higher than this above the base's origin at the first keyframe is no floor (the robot stands on the floor)
   double grid_min_height_m = 0.10;    ///< the grid's height band above the floor, lower end (m)
   double grid_max_height_m = 2.0;     ///< upper end (m): obstacles between the two block a robot
   double grid_resolution_m = 0.05;    ///< cell size of the 2D grid (m)

@@ -78,6 +78,7 @@ void validateDenseOptions(const DenseOptions& o) {
   need(o.floor_max_tilt_deg > 0 && o.floor_max_tilt_deg < 90, "floor_max_tilt_deg", "must be in (0, 90)");
   need(o.floor_inlier_m > 0, "floor_inlier_m", "must be > 0");
   need(o.floor_min_fraction > 0 && o.floor_min_fraction < 1, "floor_min_fraction", "must be in (0, 1)");
+  need(o.floor_max_above_base_m >= 0, "floor_max_above_base_m", "must be >= 0");
   need(o.floor_search_fraction > 0 && o.floor_search_fraction <= 1, "floor_search_fraction", "must be in (0, 1]");
   need(o.grid_max_height_m > o.grid_min_height_m, "grid_max_height_m", "must exceed grid_min_height_m");
   need(o.grid_resolution_m >= 0.005 && o.grid_resolution_m <= 10, "grid_resolution_m", "must be in [0.005, 10]");

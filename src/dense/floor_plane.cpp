@@ -90,6 +90,24 @@ FloorPlane gravityFloor(const std::vector<FusedPoint>& cloud, const Anchor& a, c
   return f;
 }
 
+// With a camera-to-base transform: the floor is the base's own plane, through its origin at
+// the first keyframe (the base's origin is on the floor, or a few centimetres above it).
+FloorPlane baseFloor(const Anchor& a, const std::string& method) {
+  FloorPlane f;
+  f.up_w = a.up.normalized();
+  f.height0 = f.up_w.dot(a.origin);
+  f.method = method;
+  f.T_w_grid = gridFrame(f.up_w, f.height0, a);
+  return f;
+}
+
+std::vector<Plane> planesNotAboveTheBase(const std::vector<Plane>& level, const Anchor& a, double max_above_m) {
+  std::vector<Plane> kept;
+  for (const Plane& p : level)
+    if (p.d - p.n.dot(a.origin) <= max_above_m) kept.push_back(p);  // the plane's height over the base's origin
+  return kept;
+}
+
 // A strided subsample of the cloud: the floor is large.
 std::vector<Eigen::Vector3d> subsample(const std::vector<FusedPoint>& cloud) {
   const size_t step = std::max<size_t>(1, cloud.size() / kMaxSample);
@@ -192,8 +210,16 @@ FloorPlane estimateFloor(const std::vector<FusedPoint>& cloud, const SE3& T_w_c0
 
   const Eigen::Vector3d up = anchor.up.normalized();
   const std::vector<Eigen::Vector3d> pts = subsample(cloud);
-  const std::vector<Plane> level = levelPlanes(lowest(pts, up, o.floor_search_fraction), up, o);
-  if (level.empty()) return gravityFloor(cloud, anchor, "gravity (no level plane found)");
+  std::vector<Plane> level = levelPlanes(lowest(pts, up, o.floor_search_fraction), up, o);
+  if (level.empty()) return o.T_base_cam ? baseFloor(anchor, "base (no level plane found)")
+                                         : gravityFloor(cloud, anchor, "gravity (no level plane found)");
+  if (o.T_base_cam) {
+    // The robot stands on the floor: a level plane above its base at the first keyframe is
+    // a table, a shelf, or a band of points mistaken for a floor that had too few points to
+    // be a candidate. (Below the base is allowed: its origin may be above the floor.)
+    level = planesNotAboveTheBase(level, anchor, o.floor_max_above_base_m);
+    if (level.empty()) return baseFloor(anchor, "base (no level plane at the base)");
+  }
   const Plane* floor = floorAmong(level, up);
   const Plane refined = refineOnAll(*floor, pts, up, o.floor_inlier_m);
   FloorPlane f;

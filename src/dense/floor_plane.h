@@ -13,7 +13,9 @@
 //   gravity  up is the first camera's up (the camera was held level at the start), the
 //            floor height the 2nd percentile of the points' heights along it.
 // With a camera-to-base transform (DenseOptions::T_base_cam) the prior up is the base's z
-// at the first keyframe instead of the image's top.
+// at the first keyframe instead of the image's top, and since the robot stands on the floor
+// a level plane more than floor_max_above_base_m above the base's origin is no candidate;
+// with none left, the floor is the base's own plane (through its origin, normal its z).
 // The floor frame (T_w_grid) is the map frame of core/map_frame.h (REP-103/105): z up along
 // the floor normal, y = z x x (left), and with a camera-to-base transform x the base's
 // forward direction laid onto the floor, origin on the floor below the base at the first
@@ -40,7 +42,7 @@ namespace plslam {
 struct FloorPlane {
   Eigen::Vector3d up_w = Eigen::Vector3d(0, -1, 0);  ///< unit floor normal, pointing up, world frame
   double height0 = 0;        ///< up_w . p of floor points: a point's height is up_w . p - height0
-  std::string method;        ///< "ransac", "gravity", or "gravity (no level plane found)"
+  std::string method;        ///< "ransac", "gravity", "gravity (no level plane found)"; with a camera-to-base transform "base (no level plane found)" or "base (no level plane at the base)"
   int inliers = 0;           ///< ransac: points of the (subsampled) cloud on the plane
   int candidates = 0;        ///< ransac: level planes considered
   SE3 T_w_grid;              ///< the floor (map) frame above

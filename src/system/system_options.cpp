@@ -152,6 +152,9 @@ void bindDenseOptions(OptionTable* t, DenseOptions* o) {
   t->bind("dense.floor_search_fraction", &dn.floor_search_fraction,
           "ransac floor: searched among this lowest fraction of the points along the prior up (1: all)");
   t->bind("dense.floor_min_fraction", &dn.floor_min_fraction, "ransac floor: fraction of the searched points a floor needs");
+  t->bind("dense.floor_max_above_base_m", &dn.floor_max_above_base_m,
+          "ransac floor with calibration.camera_to_base: a level plane higher than this above the base's origin is no "
+          "floor (the robot stands on it); none left: the base's own plane (m)");
   t->bind("dense.grid_min_height_m", &dn.grid_min_height_m, "2D grid: lower end of the obstacle band above the floor (m)");
   t->bind("dense.grid_max_height_m", &dn.grid_max_height_m, "2D grid: upper end of the obstacle band above the floor (m)");
   t->bind("dense.grid_resolution_m", &dn.grid_resolution_m, "2D grid cell size (m)");

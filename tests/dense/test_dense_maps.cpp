@@ -165,6 +165,48 @@ TEST(FloorPlane, StartsFromTheTopOfTheImageAlsoWhenFyIsNegative) {
   }
 }
 
+// With a known mounting the robot stands on the floor: a large level plane 0.7 m above the
+// base (a table top, or the loop scene's band of map points) is no floor, even where the real
+// floor has too few points to be a candidate (the floor is then the base's own plane); where
+// the floor is seen well enough, RANSAC's plane is kept. Without a mounting the table wins
+// (nothing says where the floor is), which is what the mounting is for.
+TEST(FloorPlane, WithAKnownMountingTheFloorIsWhereTheBaseStands) {
+  const auto cloudOf = [](double floor_half_width) {
+    std::vector<FusedPoint> cloud;  // the first camera's frame: y down
+    for (double a = -2; a <= 2; a += 0.1)
+      for (double b = 0.5; b <= 4; b += 0.1) {
+        FusedPoint table;
+        table.p_w = Eigen::Vector3d(a, 0.5, b).cast<float>();
+        cloud.push_back(table);
+        if (std::abs(a) <= floor_half_width && b >= 3.55) {
+          FusedPoint floor;
+          floor.p_w = Eigen::Vector3d(a, 1.2, b).cast<float>();
+          cloud.push_back(floor);
+        }
+      }
+    return cloud;
+  };
+  Eigen::Matrix3d R_b_c;  // optical z = base x, optical x = base -y, optical y = base -z
+  R_b_c << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  DenseOptions mounted;
+  mounted.T_base_cam = SE3(Eigen::Quaterniond(R_b_c), Eigen::Vector3d(0, 0, 1.2));  // camera 1.2 m above the base
+  const Eigen::Vector3d image_up(0, -1, 0);
+
+  const std::vector<FusedPoint> sparse_floor = cloudOf(0.15);  // 15 floor points: under floor_min_fraction
+  const FloorPlane unmounted = estimateFloor(sparse_floor, SE3(), image_up, DenseOptions());
+  EXPECT_EQ(unmounted.method, "ransac");
+  EXPECT_NEAR(unmounted.height0, -0.5, 0.01) << "without a mounting the table top is taken";
+  const FloorPlane on_base = estimateFloor(sparse_floor, SE3(), image_up, mounted);
+  EXPECT_EQ(on_base.method, "base (no level plane at the base)");
+  EXPECT_NEAR(on_base.height0, -1.2, 1e-9) << "the base's own plane";
+  EXPECT_NEAR(on_base.height(Eigen::Vector3d::Zero()), 1.2, 1e-9);
+
+  const std::vector<FusedPoint> seen_floor = cloudOf(2.0);  // the floor a candidate too
+  const FloorPlane found = estimateFloor(seen_floor, SE3(), image_up, mounted);
+  EXPECT_EQ(found.method, "ransac");
+  EXPECT_NEAR(found.height0, -1.2, 0.01);
+}
+
 TEST(DenseMaps, FusedCloudLiesOnTheTrueSurfacesWithGroundTruthPoses) {
   test::GtMapOptions o;
   o.frames = 150;
