@@ -6,4 +6,6 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$root/tools/setup.sh"
 build_dir="${PLSLAM_BUILD_DIR:-$root/build}"
-ctest --test-dir "$build_dir" --output-on-failure -j "$(nproc)" "$@"
+# A test that hangs fails after PLSLAM_TEST_TIMEOUT seconds (the longest, Soak, takes about two
+# minutes) instead of holding CI until its own limit.
+ctest --test-dir "$build_dir" --output-on-failure -j "$(nproc)" --timeout "${PLSLAM_TEST_TIMEOUT:-900}" "$@"

@@ -4,6 +4,7 @@
 #include <netinet/in.h>
 #include <rosbag/bag.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -56,6 +57,7 @@ RosMaster::RosMaster() {
   setenv("ROS_HOME", "/tmp/plslam_tests/ros_home", 1);
   pid_ = fork();
   if (pid_ == 0) {
+    prctl(PR_SET_PDEATHSIG, SIGKILL);  // a crashed test leaves no master holding ctest's pipe
     const std::string port = std::to_string(port_);
     execlp("rosmaster", "rosmaster", "--core", "-p", port.c_str(), static_cast<char*>(nullptr));
     _exit(127);

@@ -18,6 +18,7 @@
 #include <std_msgs/Int32.h>
 #include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/static_transform_broadcaster.h>
@@ -54,31 +55,61 @@ namespace fs = std::filesystem;
 
 namespace {
 
-pid_t startNode(const std::string& out, const std::vector<std::string>& params) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const std::string exe = test::binaryDir() + "/plslam_ros";
-    std::vector<std::string> args = {exe, "__name:=plslam", "_out:=" + out};
-    args.insert(args.end(), params.begin(), params.end());
-    if (const char* extra = std::getenv("PLSLAM_ROS_NODE_PARAMS")) {
-      std::istringstream words(extra);
-      for (std::string w; words >> w;) args.push_back(w);
+// The plslam_ros node in a child process, stopped when it goes out of scope: a failed ASSERT
+// returns from the test, and a node left running would hold ctest's output pipe open and hang
+// the whole suite. It also dies with the test process (PR_SET_PDEATHSIG).
+class NodeProcess {
+ public:
+  NodeProcess(const std::string& out, const std::vector<std::string>& params) {
+    pid_ = fork();
+    if (pid_ == 0) {
+      prctl(PR_SET_PDEATHSIG, SIGKILL);
+      const std::string exe = test::binaryDir() + "/plslam_ros";
+      std::vector<std::string> args = {exe, "__name:=plslam", "_out:=" + out};
+      args.insert(args.end(), params.begin(), params.end());
+      if (const char* extra = std::getenv("PLSLAM_ROS_NODE_PARAMS")) {
+        std::istringstream words(extra);
+        for (std::string w; words >> w;) args.push_back(w);
+      }
+      std::vector<char*> argv;
+      for (std::string& a : args) argv.push_back(a.data());
+      argv.push_back(nullptr);
+      execv(exe.c_str(), argv.data());
+      _exit(127);
     }
-    std::vector<char*> argv;
-    for (std::string& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    execv(exe.c_str(), argv.data());
-    _exit(127);
   }
-  return pid;
-}
+  ~NodeProcess() {
+    if (pid_ > 0) stop();
+  }
+  NodeProcess(const NodeProcess&) = delete;
+  NodeProcess& operator=(const NodeProcess&) = delete;
 
-int stopNode(pid_t pid) {
-  kill(pid, SIGINT);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
+  bool started() const { return pid_ > 0; }
+
+  /// SIGINT, as a user's Ctrl-C; the node writes its outputs and exits. Its exit status, or
+  /// -1 when it died by a signal or had to be killed after kStopTimeoutS.
+  int stop() {
+    if (pid_ <= 0) return -1;
+    kill(pid_, SIGINT);
+    int status = 0;
+    for (int i = 0; i < kStopTimeoutS * 10; ++i) {
+      if (waitpid(pid_, &status, WNOHANG) == pid_) {
+        pid_ = -1;
+        return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    ADD_FAILURE() << "the node did not stop within " << kStopTimeoutS << " s of SIGINT: killed";
+    kill(pid_, SIGKILL);
+    waitpid(pid_, &status, 0);
+    pid_ = -1;
+    return -1;
+  }
+
+ private:
+  static constexpr int kStopTimeoutS = 60;
+  pid_t pid_ = -1;
+};
 
 // The node's own counters of stats.json (ros_*), for the figures line.
 std::string rosCounts(const nlohmann::json& stats) {
@@ -243,8 +274,8 @@ TEST(RosNode, PublishesPosesTfAndMapsAndWritesOutputs) {
   const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, kFrames);
   const std::string scratch = test::scratchDir("rosnode");
   const std::string out = scratch + "/node";
-  const pid_t node = startNode(out, {"_sparse_period:=0.5"});
-  ASSERT_GT(node, 0);
+  NodeProcess node(out, {"_sparse_period:=0.5"});
+  ASSERT_TRUE(node.started());
   CameraPlayer player;
   const Trajectory groundtruth = player.play(folder, kFrames);
 
@@ -278,7 +309,7 @@ TEST(RosNode, PublishesPosesTfAndMapsAndWritesOutputs) {
   EXPECT_EQ(exported.status, 0) << exported.output;
   EXPECT_TRUE(fs::exists(scratch + "/export/grid.pgm"));
 
-  EXPECT_EQ(stopNode(node), 0);
+  EXPECT_EQ(node.stop(), 0);
   for (const char* f : {"trajectory.txt", "stats.json", "map.plmap", "dense_cloud.pcd", "grid.pgm"})
     EXPECT_TRUE(fs::exists(out + "/" + f)) << f;
   const EvalResult node_ev = evaluate(groundtruth, readTumTrajectory(out + "/trajectory.txt"));
@@ -304,8 +335,8 @@ TEST(RosNode, WithAnOdometryFramePublishesMapToOdom) {
   ASSERT_TRUE(master.ok()) << master.why();
   const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, 60);
   const std::string scratch = test::scratchDir("rosnode_odom");
-  const pid_t node = startNode(scratch + "/node", {"_odom_frame:=odom", "_no_dense:=true"});
-  ASSERT_GT(node, 0);
+  NodeProcess node(scratch + "/node", {"_odom_frame:=odom", "_no_dense:=true"});
+  ASSERT_TRUE(node.started());
   CameraPlayer player;
   // The wheel odometry, here a fixed odom -> base_footprint.
   tf2_ros::StaticTransformBroadcaster odometry;
@@ -328,7 +359,7 @@ TEST(RosNode, WithAnOdometryFramePublishesMapToOdom) {
   EXPECT_NEAR(map_base.transform.translation.x, base.pose.position.x, 1e-6);
   EXPECT_NEAR(map_base.transform.translation.y, base.pose.position.y, 1e-6);
   EXPECT_NEAR(map_base.transform.translation.z, base.pose.position.z, 1e-6);
-  EXPECT_EQ(stopNode(node), 0);
+  EXPECT_EQ(node.stop(), 0);
 }
 
 // One map frame for TF and the files: with a camera-to-base transform, the base pose the
@@ -344,8 +375,8 @@ TEST(RosNode, TfMapIsTheMapFrameOfTheFiles) {
   const std::string scratch = test::scratchDir("rosnode_frame");
   std::ofstream(scratch + "/base.yaml") << "format: plslam_camera_to_base 1\nparent_frame: base\nchild_frame: camera\n"
                                            "translation: [0.10, 0, 0.20]\nrotation: [-0.5, 0.5, -0.5, 0.5]\n";
-  const pid_t node = startNode(scratch + "/node", {"_camera_to_base:=" + scratch + "/base.yaml", "_no_dense:=true"});
-  ASSERT_GT(node, 0);
+  NodeProcess node(scratch + "/node", {"_camera_to_base:=" + scratch + "/base.yaml", "_no_dense:=true"});
+  ASSERT_TRUE(node.started());
   CameraPlayer player;
   player.play(folder, 90);
   ASSERT_TRUE(player.tf_buffer.canTransform("map", "base_footprint", ros::Time(0), ros::Duration(1.0)));
@@ -356,7 +387,7 @@ TEST(RosNode, TfMapIsTheMapFrameOfTheFiles) {
   }
   const auto tf = player.tf_buffer.lookupTransform("map", "base_footprint", last.header.stamp);
   EXPECT_NEAR(tf.transform.translation.z, last.pose.position.z, 1e-6) << "TF and the base pose topic agree";
-  EXPECT_EQ(stopNode(node), 0);
+  EXPECT_EQ(node.stop(), 0);
 
   const MapFrame frame = parseMapFrameYaml(test::readFile(scratch + "/node/map_frame.yaml"), "map_frame.yaml");
   EXPECT_EQ(frame.origin, "base");
@@ -382,15 +413,15 @@ TEST(RosNode, RealSequenceAteNextToPlslamRun) {
   test::RosMaster master;
   ASSERT_TRUE(master.ok()) << master.why();
   const std::string scratch = test::scratchDir("rosnode_fr1");
-  const pid_t node = startNode(scratch + "/node", {"_no_dense:=true"});
-  ASSERT_GT(node, 0);
+  NodeProcess node(scratch + "/node", {"_no_dense:=true"});
+  ASSERT_TRUE(node.started());
   CameraPlayer player;
   Play how;
   how.camera_file = calib;  // sent as camera_info, distortion included
   how.restamp = false;      // the recorded stamps, to compare with the ground truth
   how.millimetres = false;  // 32FC1 metres, as TUM's own bags
   player.play(folder, 200, how);
-  EXPECT_EQ(stopNode(node), 0);
+  EXPECT_EQ(node.stop(), 0);
   const Trajectory gt = readTumTrajectory(folder + "/groundtruth.txt");
   const EvalResult node_ev = evaluate(gt, readTumTrajectory(scratch + "/node/trajectory.txt"));
   const auto run = test::runPlslam("run --dataset " + folder + " --calib " + calib + " --out " + scratch +
@@ -421,13 +452,13 @@ TEST(RosNode, SegmenterComesFromTheConfigAndTheParameterOverridesIt) {
     const std::string out = scratch + "/" + name;
     std::vector<std::string> params = {"_config:=" + cfg, "_no_dense:=true"};
     if (!extra.empty()) params.push_back(extra);
-    const pid_t node = startNode(out, params);
-    ASSERT_GT(node, 0);
+    NodeProcess node(out, params);
+    ASSERT_TRUE(node.started());
     {
       CameraPlayer player;
       player.play(folder, 20);
     }
-    EXPECT_EQ(stopNode(node), 0) << name;
+    EXPECT_EQ(node.stop(), 0) << name;
     const std::string config = test::readFile(out + "/config.yaml");
     EXPECT_NE(config.find("backend: \"" + expected + "\""), std::string::npos) << name << "\n" << config;
     EXPECT_EQ(test::readJson(out + "/stats.json").at("dynamic").at("segmenter"), expected) << name;
@@ -442,8 +473,8 @@ TEST(RosNode, ResetServiceStartsANewMapAndPath) {
   ASSERT_TRUE(master.ok()) << master.why();
   const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, 60);
   const std::string scratch = test::scratchDir("rosnode_reset");
-  const pid_t node = startNode(scratch + "/node", {});
-  ASSERT_GT(node, 0);
+  NodeProcess node(scratch + "/node", {});
+  ASSERT_TRUE(node.started());
   CameraPlayer player;
   std::mutex path_mutex;
   nav_msgs::Path last_path;
@@ -487,7 +518,7 @@ TEST(RosNode, ResetServiceStartsANewMapAndPath) {
     std::lock_guard<std::mutex> lock(path_mutex);
     after = last_path;
   }
-  EXPECT_EQ(stopNode(node), 0);
+  EXPECT_EQ(node.stop(), 0);
 
   ASSERT_FALSE(after.poses.empty());
   EXPECT_LE(after.poses.size(), 30u) << "the path restarted at the reset";
@@ -507,8 +538,8 @@ TEST(RosNode, LocalizeServiceKeepsTheMapWhileTracking) {
   ASSERT_TRUE(master.ok()) << master.why();
   const std::string folder = test::syntheticSequence(synth::SceneKind::kStatic, 3 * kPart);
   const std::string scratch = test::scratchDir("rosnode_localize");
-  const pid_t node = startNode(scratch + "/node", {"_no_dense:=true", "_sparse_period:=0.5"});
-  ASSERT_GT(node, 0);
+  NodeProcess node(scratch + "/node", {"_no_dense:=true", "_sparse_period:=0.5"});
+  ASSERT_TRUE(node.started());
   CameraPlayer player;
   auto seen = [&] {
     std::lock_guard<std::mutex> lock(player.mutex);
@@ -533,7 +564,7 @@ TEST(RosNode, LocalizeServiceKeepsTheMapWhileTracking) {
   next.skip = 2 * kPart;
   player.play(folder, kPart, next);
   EXPECT_NE(seen().first, mapped_points) << "mapping again";
-  EXPECT_EQ(stopNode(node), 0);
+  EXPECT_EQ(node.stop(), 0);
 }
 
 // Without a camera_to_base file, the mounting comes from TF (base_footprint -> the colour
@@ -558,8 +589,8 @@ TEST(RosNode, CameraToBaseFromTfPlacesTheBase) {
   mounting.transform.rotation.w = 0.5;
   robot.sendTransform(mounting);
   const SE3 T_base_cam(Eigen::Quaterniond(0.5, -0.5, 0.5, -0.5), Eigen::Vector3d(0.10, 0, 0.20));
-  const pid_t node = startNode(scratch + "/node", {"_no_dense:=true", "_tf_wait:=5.0"});
-  ASSERT_GT(node, 0);
+  NodeProcess node(scratch + "/node", {"_no_dense:=true", "_tf_wait:=5.0"});
+  ASSERT_TRUE(node.started());
   player.play(folder, 60);
   geometry_msgs::PoseStamped base;
   geometry_msgs::Pose camera;
@@ -569,7 +600,7 @@ TEST(RosNode, CameraToBaseFromTfPlacesTheBase) {
     ASSERT_EQ(player.camera_poses.count(ros1::toNs(base.header.stamp)), 1u) << "a camera pose at the last base pose's stamp";
     camera = player.camera_poses[ros1::toNs(base.header.stamp)];
   }
-  EXPECT_EQ(stopNode(node), 0);
+  EXPECT_EQ(node.stop(), 0);
   // T_map_base = T_map_cam * T_base_cam^-1: the camera in the base frame is the TF mounting.
   const SE3 cam_in_base = ros1::fromPose(base.pose).inverse() * ros1::fromPose(camera);
   std::printf("[figures] node camera-to-base from TF: published base-to-camera off the TF mounting by %.2e m, %.2e deg\n",
@@ -681,8 +712,8 @@ TEST(RosNode, GoalDrivesCmdVelTowardsItAndCancelStopsIt) {
   // The goals are sent before each part is played, and CameraPlayer::play waits for the
   // node's subscriptions before it sends frames: the stop when no frame comes
   // (~frame_timeout, GoalFollower's test) is kept out of the way.
-  const pid_t node = startNode(scratch + "/node", {"_no_dense:=true", "_frame_timeout:=120"});
-  ASSERT_GT(node, 0);
+  NodeProcess node(scratch + "/node", {"_no_dense:=true", "_frame_timeout:=120"});
+  ASSERT_TRUE(node.started());
   CameraPlayer player;
   GoalClient client;
   auto lastBase = [&] {
@@ -756,7 +787,7 @@ TEST(RosNode, GoalDrivesCmdVelTowardsItAndCancelStopsIt) {
   client.sendGoal(lastBase(), 5.0, M_PI / 2);
   part.skip += kPart / 2;
   player.play(folder, kPart / 2, part);
-  EXPECT_EQ(stopNode(node), 0);
+  EXPECT_EQ(node.stop(), 0);
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   const std::vector<geometry_msgs::Twist> before_shutdown = client.commands();
   ASSERT_GE(before_shutdown.size(), 2u) << "driving, then the stop";
@@ -784,6 +815,18 @@ std::vector<geometry_msgs::Twist> waitForCommands(GoalClient& client, size_t cou
   return client.commands();
 }
 
+// Waits until no command has come for half a second (at most 20 s): the node has worked
+// through the images queued so far, so a command heard later answers what the test does next.
+void waitForQuiet(GoalClient& client) {
+  size_t heard = client.commands().size();
+  for (int quiet = 0, i = 0; quiet < 10 && i < 400; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    const size_t now = client.commands().size();
+    quiet = now == heard ? quiet + 1 : 0;
+    heard = now;
+  }
+}
+
 }  // namespace
 
 // ~tag_goal drives the base to the tag's standoff with the tag servo on the colour images
@@ -797,8 +840,8 @@ TEST(RosNode, TagGoalDrivesTowardsTheTagAndStopsAtTheStandoff) {
   const std::string scratch = test::scratchDir("rosnode_tag");
   const TagRoom room(TagRoom::onEastWall(-0.8, 0.15));  // where test_servo_slam detects it: a shelf hides y = 0
   // A generous ~frame_timeout: the pauses of this test between the parts are not what it is about.
-  const pid_t node = startNode(scratch + "/node", {"_no_dense:=true", "_frame_timeout:=5"});
-  ASSERT_GT(node, 0);
+  NodeProcess node(scratch + "/node", {"_no_dense:=true", "_frame_timeout:=5"});
+  ASSERT_TRUE(node.started());
   CameraPlayer player;
   GoalClient client;
   ros::NodeHandle nh;
@@ -832,6 +875,7 @@ TEST(RosNode, TagGoalDrivesTowardsTheTagAndStopsAtTheStandoff) {
   std::printf("[figures] node tag goal at 1.2 m: %zu commands for 30 images, %zu forward, first v %.3f m/s\n",
               approach.size(), forward, approach.empty() ? 0.0 : approach.front().linear.x);
 
+  waitForQuiet(client);
   client.forget();
   player.playViews(room, facingTheTag(room, 0.5), 20);
   const std::vector<geometry_msgs::Twist> at_standoff = waitForCommands(client, 1);
@@ -849,6 +893,7 @@ TEST(RosNode, TagGoalDrivesTowardsTheTagAndStopsAtTheStandoff) {
   sendTagGoal(room.options().tag_id);
   player.playViews(room, facingTheTag(room, 1.2), 10);
   EXPECT_FALSE(waitForCommands(client, 5).empty());
+  waitForQuiet(client);  // a command for a queued image after the cancel would be a race, not a bug
   client.cancel();
   const std::vector<geometry_msgs::Twist> stop = waitForCommands(client, 1);
   ASSERT_EQ(stop.size(), 1u) << "one zero command on cancel";
@@ -861,7 +906,7 @@ TEST(RosNode, TagGoalDrivesTowardsTheTagAndStopsAtTheStandoff) {
   // Shutdown while approaching: the last command is a zero.
   sendTagGoal(room.options().tag_id);
   player.playViews(room, facingTheTag(room, 1.2), 10);
-  stopNode(node);
+  node.stop();
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   const std::vector<geometry_msgs::Twist> before_shutdown = client.commands();
   ASSERT_GE(before_shutdown.size(), 2u) << "driving, then the stop";
