@@ -513,9 +513,14 @@ TEST(RosNode, ResetServiceStartsANewMapAndPath) {
     EXPECT_EQ(player.dense_points, 0u);
   }
   player.play(folder, 30);  // the sequence from its start again: a place the new map has not seen either
+  // On a loaded machine the node is still working through queued images when the player is
+  // done: wait for the new map's path to stop growing (at most 10 s).
   nav_msgs::Path after;
-  {
+  for (int quiet = 0, i = 0; quiet < 10 && i < 200; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
     std::lock_guard<std::mutex> lock(path_mutex);
+    const bool new_map = !last_path.poses.empty() && last_path.poses.front().header.stamp > reset_at;
+    quiet = new_map && last_path.poses.size() == after.poses.size() ? quiet + 1 : 0;
     after = last_path;
   }
   EXPECT_EQ(node.stop(), 0);
