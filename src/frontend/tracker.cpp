@@ -423,11 +423,21 @@ std::vector<Id> Tracker::localKeyframes() {
 }
 
 Id Tracker::keyframeSharingMost(const Matches& m, Id fallback) const {
+  // Runs on every tracked frame, and a point's observations grow with every lap of a room: a
+  // fixed number of matched points, spread over the frame's keypoints, vote (the place is
+  // what most of them agree on, not an exact count), so the cost does not grow with the map.
+  constexpr size_t kVoters = 100;
+  size_t matched = 0;
+  for (Id id : m.point_ids) matched += id != kNoId;
+  const size_t stride = std::max<size_t>(1, matched / kVoters);
   std::lock_guard<std::mutex> lock(map_->mutex());
   std::unordered_map<Id, int> shared;
-  for (Id id : m.point_ids)
-    if (const MapPoint* p = id == kNoId ? nullptr : map_->point(id))
+  size_t seen = 0;
+  for (Id id : m.point_ids) {
+    if (id == kNoId || seen++ % stride != 0) continue;
+    if (const MapPoint* p = map_->point(id))
       for (const auto& [kf, idx] : p->observations) ++shared[kf];
+  }
   // Ties go to the newer keyframe: while the camera explores, that is the one it made last.
   Id best_kf = fallback;
   int best = 0;
