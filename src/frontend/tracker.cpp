@@ -427,9 +427,7 @@ Id Tracker::keyframeSharingMost(const Matches& m, Id fallback) const {
   // fixed number of matched points, spread over the frame's keypoints, vote (the place is
   // what most of them agree on, not an exact count), so the cost does not grow with the map.
   constexpr size_t kVoters = 100;
-  size_t matched = 0;
-  for (Id id : m.point_ids) matched += id != kNoId;
-  const size_t stride = std::max<size_t>(1, matched / kVoters);
+  const size_t stride = std::max<size_t>(1, static_cast<size_t>(matchedCount(m.point_ids)) / kVoters);
   std::lock_guard<std::mutex> lock(map_->mutex());
   std::unordered_map<Id, int> shared;
   size_t seen = 0;

@@ -80,16 +80,20 @@ RosMaster::RosMaster() {
 }
 
 RosMaster::~RosMaster() {
-  if (pid_ <= 0) return;
   // SIGTERM, not SIGINT: a test started in the background inherits SIGINT ignored.
-  kill(pid_, SIGTERM);
+  if (pid_ > 0) stopChild(pid_, SIGTERM, 5);
+}
+
+std::optional<int> stopChild(pid_t pid, int signal, int timeout_s) {
+  kill(pid, signal);
   int status = 0;
-  for (int i = 0; i < 50; ++i) {
-    if (waitpid(pid_, &status, WNOHANG) == pid_) return;
+  for (int i = 0; i < timeout_s * 10; ++i) {
+    if (waitpid(pid, &status, WNOHANG) == pid) return status;
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
-  kill(pid_, SIGKILL);
-  waitpid(pid_, &status, 0);
+  kill(pid, SIGKILL);
+  waitpid(pid, &status, 0);
+  return std::nullopt;
 }
 
 int writeBagFromFolder(const std::string& folder, const std::string& bag_path, BagLayout layout) {

@@ -4,6 +4,7 @@
 
 #include <sys/types.h>
 
+#include <optional>
 #include <string>
 
 namespace plslam::test {
@@ -30,6 +31,10 @@ class RosMaster {
 
 /// A port on 127.0.0.1 that was free a moment ago (bound to port 0, then released).
 int freeLocalPort();
+
+/// Sends `signal` to the child `pid` and reaps it: its wait status, or nullopt when it had not
+/// exited `timeout_s` seconds later and was killed (SIGKILL) and reaped.
+std::optional<int> stopChild(pid_t pid, int signal, int timeout_s);
 
 /// The layout of a bag written by writeBagFromFolder.
 enum class BagLayout {

@@ -34,6 +34,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <tuple>
 #include <vector>
@@ -90,20 +91,13 @@ class NodeProcess {
   /// -1 when it died by a signal or had to be killed after kStopTimeoutS.
   int stop() {
     if (pid_ <= 0) return -1;
-    kill(pid_, SIGINT);
-    int status = 0;
-    for (int i = 0; i < kStopTimeoutS * 10; ++i) {
-      if (waitpid(pid_, &status, WNOHANG) == pid_) {
-        pid_ = -1;
-        return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    }
-    ADD_FAILURE() << "the node did not stop within " << kStopTimeoutS << " s of SIGINT: killed";
-    kill(pid_, SIGKILL);
-    waitpid(pid_, &status, 0);
+    const std::optional<int> status = test::stopChild(pid_, SIGINT, kStopTimeoutS);
     pid_ = -1;
-    return -1;
+    if (!status) {
+      ADD_FAILURE() << "the node did not stop within " << kStopTimeoutS << " s of SIGINT: killed";
+      return -1;
+    }
+    return WIFEXITED(*status) ? WEXITSTATUS(*status) : -1;
   }
 
  private:
