@@ -79,6 +79,63 @@ void OptionTable::bind(const std::string& key, std::string* f, const std::string
   add({key, doc, "text", [f](const std::string& v) { *f = v; }, [f] { return yamlQuoted(*f); }, fieldSpan(f)});
 }
 
+std::string Range::text() const {
+  if (std::isinf(hi)) return str(lo_open ? "> " : ">= ", lo);
+  return str("in ", lo_open ? "(" : "[", lo, ", ", hi, "]");
+}
+
+namespace {
+// The parsed value when `range` holds it; else what the key expects.
+double checked(double v, const Range& range, const char* kind) {
+  if (!range.contains(v)) throw std::invalid_argument(str("expected ", kind, " ", range.text()));
+  return v;
+}
+}  // namespace
+
+void OptionTable::bind(const std::string& key, int* f, const std::string& doc, Range range) {
+  add({key, doc, "int", [f, range](const std::string& v) { *f = static_cast<int>(checked(parseLong(v), range, "a whole number")); },
+       [f] { return std::to_string(*f); }, fieldSpan(f)});
+}
+void OptionTable::bind(const std::string& key, double* f, const std::string& doc, Range range) {
+  add({key, doc, "number", [f, range](const std::string& v) { *f = checked(parseDouble(v), range, "a number"); },
+       [f] { return formatDouble(*f); }, fieldSpan(f)});
+}
+void OptionTable::bind(const std::string& key, float* f, const std::string& doc, Range range) {
+  add({key, doc, "number",
+       [f, range](const std::string& v) { *f = static_cast<float>(checked(parseDouble(v), range, "a number")); },
+       [f] { return formatDouble(*f); }, fieldSpan(f)});
+}
+void OptionTable::bind(const std::string& key, uint64_t* f, const std::string& doc) {
+  add({key, doc, "int",
+       [f](const std::string& v) {
+         char* end = nullptr;
+         errno = 0;
+         const unsigned long long u = std::strtoull(v.c_str(), &end, 10);
+         if (v.empty() || v[0] == '-' || *end != '\0' || errno != 0) throw std::invalid_argument("expected a whole number >= 0");
+         *f = static_cast<uint64_t>(u);
+       },
+       [f] { return std::to_string(*f); }, fieldSpan(f)});
+}
+void OptionTable::bindList(const std::string& key, std::vector<std::string>* f, const std::string& doc) {
+  add({key, doc, "text", [f](const std::string& v) { *f = splitCommaList(v); },
+       [f] {
+         std::string joined;
+         for (const std::string& item : *f) joined += (joined.empty() ? "" : ", ") + item;
+         return yamlQuoted(joined);
+       },
+       fieldSpan(f)});
+}
+
+std::vector<std::string> splitCommaList(const std::string& list) {
+  std::vector<std::string> items;
+  std::stringstream in(list);
+  for (std::string item; std::getline(in, item, ',');) {
+    const size_t b = item.find_first_not_of(" \t"), e = item.find_last_not_of(" \t");
+    if (b != std::string::npos) items.push_back(item.substr(b, e - b + 1));
+  }
+  return items;
+}
+
 void OptionTable::bindCustom(const std::string& key, FieldSpan field, std::function<void(const std::string&)> set,
                              std::function<std::string()> get, const std::string& type, const std::string& doc) {
   add({key, doc, type, std::move(set), [get = std::move(get)] { return yamlQuoted(get()); }, field});

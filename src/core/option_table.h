@@ -3,7 +3,9 @@
 // and writes the effective configuration back out with each field's doc line.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <string>
@@ -22,6 +24,18 @@ FieldSpan fieldSpan(const T* field) {
   return {field, sizeof(T)};
 }
 
+/// The values a number key accepts; a configuration setting one outside is refused with the
+/// key's name. Made by atLeast, above and within.
+struct Range {
+  double lo = -HUGE_VAL, hi = HUGE_VAL;
+  bool lo_open = false;  ///< lo itself is refused
+  bool contains(double v) const { return (lo_open ? v > lo : v >= lo) && v <= hi; }
+  std::string text() const;  ///< ">= 1", "> 0", "in [0, 1]"
+};
+inline Range atLeast(double lo) { return {lo, HUGE_VAL, false}; }
+inline Range above(double lo) { return {lo, HUGE_VAL, true}; }
+inline Range within(double lo, double hi) { return {lo, hi, false}; }
+
 class OptionTable {
  public:
   /// Binds `key` (e.g. "tracker.min_inliers") to `*field`. The field's current value is its default.
@@ -30,6 +44,14 @@ class OptionTable {
   void bind(const std::string& key, float* field, const std::string& doc);
   void bind(const std::string& key, bool* field, const std::string& doc);
   void bind(const std::string& key, std::string* field, const std::string& doc);
+  /// As above, and a value outside `range` is refused.
+  void bind(const std::string& key, int* field, const std::string& doc, Range range);
+  void bind(const std::string& key, double* field, const std::string& doc, Range range);
+  void bind(const std::string& key, float* field, const std::string& doc, Range range);
+  /// A random seed (any non-negative whole number).
+  void bind(const std::string& key, uint64_t* field, const std::string& doc);
+  /// Comma-separated text ("chair, cup"): the list of its non-empty, trimmed items.
+  void bindList(const std::string& key, std::vector<std::string>* field, const std::string& doc);
   /// Binds `key` to `field`, a value of the caller's kind: `set` parses the text and throws
   /// std::invalid_argument saying what it expected (the table turns that into a ConfigError
   /// naming the key); `get` gives the value back as text (written quoted). `type` names the
@@ -66,6 +88,9 @@ class OptionTable {
 /// without a value sets nothing. Syntax errors, sequences, keys other than letters, digits,
 /// '_' and '-', and keys given twice are refused with a ConfigError naming `source` and the line.
 std::map<std::string, std::string> parseYamlSubset(const std::string& content, const std::string& source);
+
+/// The non-empty items of a comma-separated list, trimmed of blanks.
+std::vector<std::string> splitCommaList(const std::string& list);
 
 /// Throws ConfigError "<section>.<key> must be <range> (got <value>)" unless `ok`: the one
 /// message of every options struct's validate().

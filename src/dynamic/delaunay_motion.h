@@ -20,6 +20,7 @@
 // Stateless and thread-safe.
 #pragma once
 
+#include <string>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -33,6 +34,8 @@
 #include "dynamic/motion_check.h"
 
 namespace plslam {
+
+class OptionTable;
 
 /// When a graph edge joins one surface: its two depths differ by at most
 /// max(min_step_m, ratio * the nearer depth). Edges from a person to the wall behind do not.
@@ -49,6 +52,9 @@ struct DelaunayMotionOptions {
   int min_region_features = 3;     ///< moving regions smaller than this are not reported (their features stay flagged)
   SameSurfaceOptions region_surface;  ///< regions grow only over edges that join one surface
 };
+
+/// Binds `prefix` + "chi2_length", ...; not `motion`: the dynamic filter gives the graph its own check's options.
+void bindDelaunayMotionOptions(OptionTable* table, const std::string& prefix, DelaunayMotionOptions* options);
 
 enum class DelaunayStatus {
   kOk,             ///< graph built, camera motion available

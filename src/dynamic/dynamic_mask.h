@@ -29,6 +29,8 @@
 
 namespace plslam {
 
+class OptionTable;
+
 struct DynamicMaskOptions {
   double moving_fraction = 0.3;        ///< an instance moves when at least this fraction of its checked features move
   int min_moving_features = 2;         ///< ... and at least this many of them
@@ -42,6 +44,9 @@ struct DynamicMaskOptions {
   int moving_area_dilate_px = 0;       ///< the spread moving area (DynamicEvidence::moving_triangles) grows by this many pixels
   int feature_radius_px = 0;           ///< moving features outside dynamic areas also mask a disc of this radius (0: flag only)
 };
+
+/// Binds `prefix` + "moving_fraction", "dilate_px", ...
+void bindDynamicMaskOptions(OptionTable* table, const std::string& prefix, DynamicMaskOptions* options);
 
 enum class InstanceDecisionReason {
   kMovingByGeometry,  ///< enough of its features disagree with the camera motion

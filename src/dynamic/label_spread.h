@@ -18,6 +18,7 @@
 // Stateless and thread-safe.
 #pragma once
 
+#include <string>
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
@@ -29,12 +30,17 @@
 
 namespace plslam {
 
+class OptionTable;
+
 struct LabelSpreadOptions {
   SameSurfaceOptions surface;      ///< which edges join one surface
   double max_edge_px = 60.0;       ///< longer edges join nothing
   int min_still_neighbours = 1;    ///< a moving feature with no moving neighbour and this many still ones is a mismatch
   int passes = 10;                 ///< rounds of spreading into unjudged features (0: none)
 };
+
+/// Binds `prefix` + "passes", "max_edge_px", "min_still_neighbours", "min_step_m", "step_ratio".
+void bindLabelSpreadOptions(OptionTable* table, const std::string& prefix, LabelSpreadOptions* options);
 
 struct LabelSpreadResult {
   std::vector<int8_t> labels;  ///< per feature: -1 unjudged, 0 still, 1 moving

@@ -19,6 +19,7 @@
 // thread-safe; a MaskCarrier is used from one thread.
 #pragma once
 
+#include <string>
 #include <deque>
 #include <opencv2/core.hpp>
 #include <vector>
@@ -26,6 +27,8 @@
 #include "dynamic/instance.h"
 
 namespace plslam {
+
+class OptionTable;
 
 struct MaskPropagationOptions {
   int max_corners = 30;             ///< corners tracked per instance (their median moves it; more cost more)
@@ -40,6 +43,9 @@ struct MaskPropagationOptions {
   double interior_margin_fraction = 0.25;
   int max_interior_margin_px = 30;  ///< ... and at most this far inside
 };
+
+/// Binds `prefix` + "max_corners", "window_px", ...
+void bindMaskPropagationOptions(OptionTable* table, const std::string& prefix, MaskPropagationOptions* options);
 
 /// A segmentation with what carrying it needs from its image, prepared once per segmentation.
 struct PropagationSource {

@@ -26,6 +26,7 @@
 // Stateless and thread-safe.
 #pragma once
 
+#include <string>
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdint>
@@ -36,6 +37,8 @@
 #include "core/se3.h"
 
 namespace plslam {
+
+class OptionTable;
 
 /// One feature seen in the previous and the current frame.
 struct MotionCorrespondence {
@@ -87,6 +90,9 @@ struct MotionCheckOptions {
   double min_epipolar_baseline_m = 0.01;  ///< below this translation, no-depth features use rotation transfer
   double min_scene_depth_m = 0.4;     ///< nearest depth assumed for the parallax allowance of rotation transfer
 };
+
+/// Binds `prefix` + "chi2_3d", ... and the noise model ("pixel_sigma", ...).
+void bindMotionCheckOptions(OptionTable* table, const std::string& prefix, MotionCheckOptions* options);
 
 enum class MotionCheckStatus {
   kOk,                     ///< motion estimated, flags valid

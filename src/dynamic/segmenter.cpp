@@ -40,16 +40,6 @@ SegmenterKind parseSegmenterKind(const std::string& name) {
   throw ConfigError(str("unknown segmenter '", name, "' (accepted: none, replay, yolo)"));
 }
 
-std::vector<std::string> splitClassNames(const std::string& list) {
-  std::vector<std::string> names;
-  std::stringstream in(list);
-  for (std::string name; std::getline(in, name, ',');) {
-    const size_t b = name.find_first_not_of(" \t"), e = name.find_last_not_of(" \t");
-    if (b != std::string::npos) names.push_back(name.substr(b, e - b + 1));
-  }
-  return names;
-}
-
 void bindSegmenterOptions(OptionTable* t, SegmenterOptions* o) {
   t->bindCustom(
       "segmenter.backend", fieldSpan(&o->kind),
@@ -69,8 +59,8 @@ void bindSegmenterOptions(OptionTable* t, SegmenterOptions* o) {
   t->bindCustom(
       "segmenter.dynamic_classes", fieldSpan(&o->dynamic_classes),
       [o](const std::string& v) {
-        if (splitClassNames(v).empty()) o->dynamic_classes.reset();
-        else o->dynamic_classes = splitClassNames(v);
+        if (splitCommaList(v).empty()) o->dynamic_classes.reset();
+        else o->dynamic_classes = splitCommaList(v);
       },
       [o] {
         std::string joined;

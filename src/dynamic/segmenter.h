@@ -85,8 +85,6 @@ struct SegmenterOptions {
 /// segmenter.dynamic_classes, segmenter.allow_missing_model. A bad backend is a ConfigError
 /// naming the key. Each switch of `plslam run` (--segmenter, --classes, ...) overrides its key.
 void bindSegmenterOptions(OptionTable* table, SegmenterOptions* options);
-/// "person, dog,cat" -> {"person", "dog", "cat"}: names trimmed, empty ones skipped.
-std::vector<std::string> splitClassNames(const std::string& list);
 
 /// The class list the options describe (classes_file or the built-in COCO list, with
 /// the dynamic set applied). Throws IoError / ConfigError.

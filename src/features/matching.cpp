@@ -7,8 +7,15 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "core/option_table.h"
 
 namespace plslam {
+
+void bindBruteForceOptions(OptionTable* t, const std::string& p, BruteForceOptions* o) {
+  t->bind(p + "max_distance", &o->max_distance, "ORB Hamming distance accepted (of 256 bits)", within(0, 256));
+  t->bind(p + "ratio", &o->ratio, "best < ratio * second-best distance (1: no ratio test)", Range{0, 1, true});
+  t->bind(p + "mutual", &o->mutual, "keep a pair only if each is the other's best");
+}
 
 namespace {
 

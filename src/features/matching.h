@@ -10,6 +10,7 @@
 // Stateless and deterministic. Thread safety: every function may be called concurrently.
 #pragma once
 
+#include <string>
 #include <Eigen/Core>
 #include <cstdint>
 #include <opencv2/core.hpp>
@@ -18,6 +19,8 @@
 #include "features/line_extractor.h"
 
 namespace plslam {
+
+class OptionTable;
 
 /// Hamming distance of two 32-byte descriptors (0..256).
 int hammingDistance(const uint8_t* a, const uint8_t* b);
@@ -33,6 +36,9 @@ struct BruteForceOptions {
   float ratio = 0.8f;     ///< Lowe: best < ratio * second best (1 disables)
   bool mutual = true;     ///< keep a pair only if each is the other's best
 };
+
+/// Binds `prefix` + "max_distance", "ratio", "mutual".
+void bindBruteForceOptions(OptionTable* table, const std::string& prefix, BruteForceOptions* options);
 
 /// Every query row against every train row (CV_8U, 32 columns). Each train row is used at
 /// most once (the closest query keeps it). Sorted by query index.

@@ -78,7 +78,7 @@ void DynamicFilterOptions::validate() const {
   require(match_max_distance >= 0 && match_max_distance <= 256, "match_max_distance", "in [0, 256]", match_max_distance);
   require(line_masked_fraction >= 0 && line_masked_fraction <= 1, "line_masked_fraction", "in [0, 1]",
           line_masked_fraction);
-  require(spread.min_still_neighbours >= 0, "mismatch_still_neighbours", ">= 0", spread.min_still_neighbours);
+  require(spread.min_still_neighbours >= 0, "spread_min_still_neighbours", ">= 0", spread.min_still_neighbours);
   require(spread.passes >= 0, "spread_passes", ">= 0", spread.passes);
   require(mask.moving_fraction >= 0 && mask.moving_fraction <= 1, "moving_fraction", "in [0, 1]", mask.moving_fraction);
   require(mask.min_checked_features >= 0, "min_checked_features", ">= 0", mask.min_checked_features);
@@ -95,6 +95,8 @@ DynamicFilter::DynamicFilter(PinholeCamera camera, DynamicFilterOptions options,
       asynchronous_(asynchronous),
       carrier_(options.propagation) {
   options_.validate();
+  // The graph's edge test normalises by the same sensor noise as the check it is given.
+  options_.delaunay.motion = options_.motion;
   // The "none" segmenter gives nothing: no worker, no requests, no mask ages to report.
   if (segmenter_ && segmenter_->name() == "none") segmenter_.reset();
   if (segmenter_ && asynchronous_) worker_ = std::thread([this] { workerLoop(); });

@@ -10,6 +10,7 @@
 // Deterministic for a given seed. Stateless; thread-safe.
 #pragma once
 
+#include <string>
 #include <Eigen/Core>
 #include <cstdint>
 #include <vector>
@@ -17,6 +18,8 @@
 #include "core/se3.h"
 
 namespace plslam {
+
+class OptionTable;
 
 struct RigidRansacOptions {
   int iterations = 300;         ///< RANSAC samples
@@ -26,6 +29,9 @@ struct RigidRansacOptions {
   double line_angle_deg = 5;    ///< direction difference accepted for a line inlier
   uint64_t seed = 1;            ///< sampling seed
 };
+
+/// Binds `prefix` + "iterations", "threshold_m", ...
+void bindRigidRansacOptions(OptionTable* table, const std::string& prefix, RigidRansacOptions* options);
 
 /// A pair of matched 3D segments (endpoints in each camera frame).
 struct SegmentPair3D {

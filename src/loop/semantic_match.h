@@ -26,6 +26,8 @@
 
 namespace plslam {
 
+class OptionTable;
+
 struct SemanticOptions {
   double max_image_offset = 0.25;     ///< box centres this far apart (fraction of the image diagonal) do not match
   double max_depth_difference_m = 1.0;  ///< centroid depths differing more do not match
@@ -38,6 +40,9 @@ struct SemanticOptions {
   double gain = 0.5;     ///< score *= 1 + gain * similarity when the instances agree
   double penalty = 0.5;  ///< score *= 1 - penalty when they disagree
 };
+
+/// Binds `prefix` + "max_image_offset", ..., "generic_classes".
+void bindSemanticOptions(OptionTable* table, const std::string& prefix, SemanticOptions* options);
 
 /// One instance pair kept.
 struct InstanceMatch {

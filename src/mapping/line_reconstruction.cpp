@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "core/option_table.h"
 
 namespace plslam {
 
@@ -24,6 +25,28 @@ const char* toString(LineFitStatus status) {
     case LineFitStatus::kMidpointDepthMismatch: return "midpoint depth mismatch";
   }
   return "unknown";
+}
+
+void bindLineFitOptions(OptionTable* t, const std::string& p, LineFitOptions* o) {
+  t->bind(p + "sample_step_px", &o->sample_step_px, "spacing of depth samples along a segment (px)", above(0));
+  t->bind(p + "max_samples", &o->max_samples, "depth samples per segment at most (the spacing grows)", atLeast(2));
+  t->bind(p + "min_segment_px", &o->min_segment_px, "shorter segments get no 3D line (px)", atLeast(0));
+  t->bind(p + "min_depth_m", &o->min_depth_m, "depth samples nearer than this count as missing (m)", above(0));
+  t->bind(p + "max_depth_m", &o->max_depth_m, "depth samples beyond this count as missing (m)", above(0));
+  t->bind(p + "perp_search_px", &o->perp_search_px, "half-width of the depth window across the segment (px)", within(0, 10));
+  t->bind(p + "surface_jump_tolerances", &o->surface_jump_tolerances,
+          "a step above this many inlier tolerances between window neighbours separates two surfaces", atLeast(1));
+  t->bind(p + "depth_noise_coeff", &o->depth_noise_coeff, "inlier tolerance: depth sigma = coeff * z^2 (1/m)", atLeast(0));
+  t->bind(p + "inlier_sigmas", &o->inlier_sigmas, "inlier tolerance in depth sigmas", atLeast(0));
+  t->bind(p + "inlier_base_m", &o->inlier_base_m, "constant part of the inlier tolerance (m)", above(0));
+  t->bind(p + "min_inlier_ratio", &o->min_inlier_ratio, "fraction of the samples with depth a fitted 3D line must explain", within(0, 1));
+  t->bind(p + "min_inliers", &o->min_inliers, "and at least this many inlier samples", atLeast(2));
+  t->bind(p + "refit_iterations", &o->refit_iterations, "inlier re-selections and refits after RANSAC", atLeast(0));
+  t->bind(p + "max_extrapolation", &o->max_extrapolation, "endpoints may reach past the outermost inliers by this fraction of their extent", atLeast(0));
+  t->bind(p + "min_view_angle_deg", &o->min_view_angle_deg, "lines closer than this to an endpoint's viewing ray are refused (deg)", Range{0, 90, false});
+  t->bind(p + "min_length_m", &o->min_length_m, "shortest 3D segment kept (m)", atLeast(0));
+  t->bind(p + "max_length_m", &o->max_length_m, "longest 3D segment kept (m)", above(0));
+  t->bind(p + "endpoint_median3x3", &o->endpoint_median3x3, "endpoint method (its rate is reported): depth = median of the valid 3x3 neighbours");
 }
 
 void LineFitOptions::validate() const {

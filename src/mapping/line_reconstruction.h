@@ -20,6 +20,8 @@
 
 namespace plslam {
 
+class OptionTable;
+
 /// Why a reconstruction succeeded or failed.
 enum class LineFitStatus {
   kOk = 0,
@@ -64,6 +66,9 @@ struct LineFitOptions {
   /// Throws ConfigError naming the field when a value is out of range.
   void validate() const;
 };
+
+/// Binds `prefix` + "sample_step_px", "max_samples", ...
+void bindLineFitOptions(OptionTable* table, const std::string& prefix, LineFitOptions* options);
 
 /// A reconstructed 3D segment in the camera frame; P_c belongs to the 2D endpoint p, Q_c to q.
 struct LineSegment3D {

@@ -22,6 +22,7 @@
 // Stateless; thread safety: adjust() is const and may run concurrently on different problems.
 #pragma once
 
+#include <string>
 #include <Eigen/Core>
 #include <limits>
 #include <vector>
@@ -31,6 +32,8 @@
 #include "optim/measurement.h"
 
 namespace plslam {
+
+class OptionTable;
 
 struct BundleProblem {
   struct Keyframe {
@@ -92,6 +95,9 @@ struct BundleAdjusterOptions {
   LinearSolver linear_solver = LinearSolver::kAuto;  ///< kAuto: dense Schur up to 40 free keyframes, else sparse
   int num_threads = 1;                    ///< Ceres threads
 };
+
+/// Binds `prefix` + "iterations", "refine_iterations", ...; the model is bound apart (bindMeasurementModel).
+void bindBundleAdjusterOptions(OptionTable* table, const std::string& prefix, BundleAdjusterOptions* options);
 
 class LocalBundleAdjuster {
  public:

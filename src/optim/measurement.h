@@ -10,6 +10,8 @@
 
 namespace plslam {
 
+class OptionTable;
+
 struct MeasurementModel {
   double pixel_sigma = 1.0;          ///< keypoint / segment sigma at octave 0, pixels
   double scale_factor = 1.2;         ///< pyramid scale between octaves: sigma = pixel_sigma * scale_factor^octave
@@ -28,6 +30,12 @@ struct MeasurementModel {
   /// Throws ConfigError when a field is out of range.
   void validate() const;
 };
+
+/// Binds the model's keys, `prefix` + "pixel_sigma" and so on; `where` ("in pose
+/// optimisation") ends their doc lines. scale_factor is left out: the run sets it from
+/// features.orb_scale_factor, the pyramid the keypoints come from.
+void bindMeasurementModel(OptionTable* table, const std::string& prefix, const std::string& where,
+                          MeasurementModel* model);
 
 /// Outcome of an optimisation call. Anything but kOk means the result must not be trusted.
 enum class OptimStatus {

@@ -6,6 +6,7 @@
 // Stateless; thread safety: optimize() is const and may run concurrently on different graphs.
 #pragma once
 
+#include <string>
 #include <Eigen/Core>
 #include <vector>
 
@@ -13,6 +14,8 @@
 #include "optim/measurement.h"
 
 namespace plslam {
+
+class OptionTable;
 
 struct PoseGraphProblem {
   struct Vertex {
@@ -48,6 +51,9 @@ struct PoseGraphOptions {
   double huber_delta = 0.0;    ///< Huber threshold on the whitened edge error (0 = plain least squares)
   int num_threads = 1;         ///< Ceres threads
 };
+
+/// Binds `prefix` + "iterations", "max_time_s", "huber_delta", "threads".
+void bindPoseGraphOptions(OptionTable* table, const std::string& prefix, PoseGraphOptions* options);
 
 class PoseGraphOptimizer {
  public:

@@ -7,6 +7,7 @@
 // Thread safety: optimize() is const and may run concurrently on different problems.
 #pragma once
 
+#include <string>
 #include <Eigen/Core>
 #include <limits>
 #include <vector>
@@ -16,6 +17,8 @@
 #include "optim/measurement.h"
 
 namespace plslam {
+
+class OptionTable;
 
 /// A map point seen in the frame. The world point is held fixed.
 struct PointObs {
@@ -61,6 +64,9 @@ struct PoseOptimizerOptions {
   bool normal_cholesky = true;       ///< DENSE_NORMAL_CHOLESKY (fastest for one 6-dof block); else DENSE_QR
   int num_threads = 1;               ///< Ceres threads (Jacobian evaluation)
 };
+
+/// Binds `prefix` + "rounds", "iterations", ...; the model is bound apart (bindMeasurementModel).
+void bindPoseOptimizerOptions(OptionTable* table, const std::string& prefix, PoseOptimizerOptions* options);
 
 class PoseOptimizer {
  public:

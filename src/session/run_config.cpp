@@ -52,7 +52,7 @@ void applySwitches(const RunSwitches& s, SystemOptions* options) {
     seg.yolo.model_path = s.segmenter;
   }
   if (!s.classes.empty()) seg.classes_file = s.classes;
-  if (!splitClassNames(s.dynamic_classes).empty()) seg.dynamic_classes = splitClassNames(s.dynamic_classes);
+  if (!splitCommaList(s.dynamic_classes).empty()) seg.dynamic_classes = splitCommaList(s.dynamic_classes);
   if (s.allow_missing_model) seg.allow_missing_model = true;
   if (!s.base.empty()) options->camera_to_base = s.base;
 }

@@ -119,6 +119,11 @@ System::System(PinholeCamera camera, SystemOptions options, Map map)
   options_.tracker.use_lines = options_.use_lines;
   options_.mapper.use_lines = options_.use_lines;
   options_.features.use_lines = options_.use_lines;
+  // The solvers' pixel sigma grows with the pyramid level the keypoints come from (the float
+  // field cannot hold 1.2 exactly: the double is kept when it is the same number as a float).
+  for (MeasurementModel* model : {&options_.tracker.optimizer.model, &options_.mapper.ba.model, &options_.loop.ba.model})
+    if (static_cast<float>(model->scale_factor) != options_.features.orb.scale_factor)
+      model->scale_factor = options_.features.orb.scale_factor;
   const bool use_loop = options_.use_loop && !options_.tracker.localization_only;
   const std::shared_ptr<const VocabularySet> vocabulary = placeVocabulary(options_.loop.vocabulary, use_loop);
   pipeline_ = std::make_unique<Pipeline>(&map_, camera_, options_, vocabulary);

@@ -55,10 +55,8 @@ void bindTrackerOptions(OptionTable* t, TrackerOptions* o) {
           "weight of the LBD similarity (when both sides have lines)");
   t->bind("tracker.reanchor_after_s", &tr.reanchor_after_s,
           "lost this long (s) and not relocalised: track on from a new keyframe at the last pose (0: never)");
-  t->bind("tracker.pose_rounds", &tr.optimizer.rounds, "pose optimisation outlier rounds");
-  t->bind("tracker.pose_iterations", &tr.optimizer.iterations_per_round, "solver iterations per round");
-  t->bind("tracker.use_depth", &tr.optimizer.model.use_depth, "depth residuals in pose optimisation");
-  t->bind("tracker.depth_sigma_coeff", &tr.optimizer.model.depth_sigma_coeff, "depth sigma = coeff * z^2 in pose optimisation (1/m)");
+  bindPoseOptimizerOptions(t, "tracker.pose_", &tr.optimizer);
+  bindMeasurementModel(t, "tracker.", "in pose optimisation", &tr.optimizer.model);
 }
 
 // The dynamic filter, and the segmenter it drives.
@@ -74,12 +72,6 @@ void bindDynamicOptions(OptionTable* t, SystemOptions* o) {
           "segments with more than this fraction of their length on dynamic pixels are removed");
   t->bind("dynamic.spread_labels", &d.spread_labels, "spread motion labels to unmatched keypoints over the Delaunay graph of all keypoints");
   t->bind("dynamic.spread_with_masks", &d.spread_with_masks, "spread labels also on frames with instance masks");
-  t->bind("dynamic.mismatch_still_neighbours", &d.spread.min_still_neighbours, "a moving keypoint with no moving graph neighbour and this many still ones is a mismatch");
-  t->bind("dynamic.spread_passes", &d.spread.passes, "rounds of label spreading (graph rings)");
-  t->bind("dynamic.moving_area_dilate_px", &d.mask.moving_area_dilate_px, "the spread moving area grows by this many pixels");
-  t->bind("dynamic.moving_fraction", &d.mask.moving_fraction, "an instance moves when this fraction of its checked features move");
-  t->bind("dynamic.min_checked_features", &d.mask.min_checked_features, "fewer checked features: the class prior decides");
-  t->bind("dynamic.dilate_px", &d.mask.dilate_px, "dynamic areas grow by this many pixels");
   t->bind("dynamic.replay_latency_frames", &d.latency_frames,
           "use masks exactly this many frames after the frame they were segmented on, waiting for them if needed (reproduces a slow segmenter; 0: as soon as ready)");
   t->bind("dynamic.propagate_masks", &d.propagate_masks, "carry late masks (threaded mode, or replay_latency_frames > 0) to the current frame by optical flow per instance");
@@ -91,6 +83,11 @@ void bindDynamicOptions(OptionTable* t, SystemOptions* o) {
   t->bind("dynamic.yolo_input_size", &o->segmenter.yolo.input_size,
           "YOLOv8-seg square input side for a model whose input size is symbolic (0: read it from the model)");
   bindSegmenterOptions(t, &o->segmenter);
+  bindDynamicMaskOptions(t, "dynamic.", &d.mask);
+  bindMotionCheckOptions(t, "dynamic.motion_", &d.motion);
+  bindDelaunayMotionOptions(t, "dynamic.delaunay_", &d.delaunay);
+  bindLabelSpreadOptions(t, "dynamic.spread_", &d.spread);
+  bindMaskPropagationOptions(t, "dynamic.propagation_", &d.propagation);
 }
 
 // Loop closure, with the system switches of the threads that run behind tracking.
@@ -114,7 +111,6 @@ void bindLoopOptions(OptionTable* t, SystemOptions* o) {
   t->bind("loop.min_matches", &l.min_matches, "ORB matches with depth needed for verification");
   t->bind("loop.min_inliers", &l.min_inliers, "3D-3D RANSAC inliers needed");
   t->bind("loop.min_inlier_ratio", &l.min_inlier_ratio, "RANSAC inliers / matches needed");
-  t->bind("loop.ransac_threshold_m", &l.ransac.threshold_m, "3D inlier distance at zero depth (m)");
   t->bind("loop.edge_sigma_trans_m", &l.edge_sigma_trans_m, "pose-graph edge sigma, translation (m)");
   t->bind("loop.edge_sigma_rot_deg", &l.edge_sigma_rot_deg, "pose-graph edge sigma, rotation (deg)");
   t->bind("loop.fuse_duplicates", &l.fuse_duplicates, "merge map points seen at both ends of a loop");
@@ -126,7 +122,12 @@ void bindLoopOptions(OptionTable* t, SystemOptions* o) {
           "keyframe pairs sharing this many points get a pose-graph edge");
   t->bind("loop.min_keyframes_between_loops", &l.min_keyframes_between_loops, "keyframes after an accepted loop before the next");
   t->bind("loop.global_ba", &l.global_ba, "a bundle adjustment of every keyframe and point after the pose graph");
-  t->bind("loop.global_ba_max_time_s", &l.ba.max_time_s, "global BA time budget, seconds (0 = none)");
+  bindSemanticOptions(t, "loop.semantic_", &l.semantic);
+  bindBruteForceOptions(t, "loop.match_", &l.matching);
+  bindRigidRansacOptions(t, "loop.ransac_", &l.ransac);
+  bindPoseGraphOptions(t, "loop.pose_graph_", &l.pose_graph);
+  bindBundleAdjusterOptions(t, "loop.global_ba_", &l.ba);
+  bindMeasurementModel(t, "loop.global_ba_", "in the global BA", &l.ba.model);
 }
 
 void bindDenseOptions(OptionTable* t, DenseOptions* o) {
@@ -182,17 +183,13 @@ void bindMapperOptions(OptionTable* t, LocalMapperOptions* o) {
   t->bind("mapper.local_ba", &m.local_ba, "run the local bundle adjustment");
   t->bind("mapper.ba_keyframes", &m.ba_keyframes, "keyframes optimised together in local BA");
   t->bind("mapper.ba_fixed_keyframes", &m.ba_fixed_keyframes, "further keyframes held fixed around them");
-  t->bind("mapper.ba_iterations", &m.ba.max_iterations, "local BA iterations (robust pass)");
-  t->bind("mapper.ba_refine_iterations", &m.ba.refine_iterations, "local BA iterations without outliers");
-  t->bind("mapper.depth_sigma_coeff", &m.ba.model.depth_sigma_coeff, "depth sigma = coeff * z^2 in local BA (1/m)");
-  t->bind("mapper.ba_max_time_s", &m.ba.max_time_s, "local BA time budget, seconds (0 = none)");
   t->bind("mapper.cull_found_ratio", &m.cull_found_ratio, "landmarks found in fewer predicted frames than this are culled");
   t->bind("mapper.cull_single_after", &m.cull_single_after, "points seen by one keyframe are culled this many keyframes later");
   t->bind("mapper.cull_min_visible", &m.cull_min_visible, "the found ratio is judged once a landmark was predicted this often");
   t->bind("mapper.min_covisible_points", &m.min_covisible_points, "shared points that make two keyframes covisible (local BA window)");
-  t->bind("mapper.line_sample_step_px", &m.line_fit.sample_step_px, "spacing of depth samples along a segment (px)");
-  t->bind("mapper.line_min_inlier_ratio", &m.line_fit.min_inlier_ratio, "fraction of valid samples a fitted 3D line must explain");
-  t->bind("mapper.line_max_depth_m", &m.line_fit.max_depth_m, "depth samples beyond this are ignored (m)");
+  bindBundleAdjusterOptions(t, "mapper.ba_", &m.ba);
+  bindMeasurementModel(t, "mapper.", "in local BA", &m.ba.model);
+  bindLineFitOptions(t, "mapper.line_", &m.line_fit);
 }
 
 }  // namespace

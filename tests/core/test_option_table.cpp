@@ -1,5 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <string>
+#include <tuple>
+#include <vector>
+
 #include "core/error.h"
 #include "core/option_table.h"
 
@@ -111,4 +116,56 @@ TEST(OptionTable, TextWithQuotesAndBackslashesRoundTrips) {
   OptionTable u = table(&p);
   u.apply(parseYamlSubset(t.toYaml("header"), "effective.yaml"), "effective.yaml");
   EXPECT_EQ(p.name, o.name);
+}
+
+TEST(OptionTable, RangedKeysRefuseValuesOutsideTheirRangeNamingTheKey) {
+  int count = 3;
+  double ratio = 0.5, sigma = 1.0;
+  OptionTable t;
+  t.bind("s.count", &count, "a count", atLeast(1));
+  t.bind("s.ratio", &ratio, "a fraction", within(0, 1));
+  t.bind("s.sigma", &sigma, "a sigma", above(0));
+  t.set("s.count", "1", "c.yaml");
+  t.set("s.ratio", "1", "c.yaml");
+  EXPECT_EQ(count, 1);
+  EXPECT_EQ(ratio, 1.0);
+  for (const auto& [key, value, expected] : {std::tuple<std::string, std::string, std::string>{"s.count", "0", ">= 1"},
+                                             {"s.ratio", "1.5", "in [0, 1]"},
+                                             {"s.sigma", "0", "> 0"}}) {
+    try {
+      t.set(key, value, "c.yaml");
+      ADD_FAILURE() << key << " = " << value << " was accepted";
+    } catch (const ConfigError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("'" + key + "'"), std::string::npos) << what;
+      EXPECT_NE(what.find(expected), std::string::npos) << what;
+    }
+  }
+  EXPECT_EQ(count, 1);  // refused values leave the field as it was
+  EXPECT_EQ(ratio, 1.0);
+  EXPECT_EQ(sigma, 1.0);
+}
+
+TEST(OptionTable, SeedsAreWholeNumbersAtLeastZero) {
+  uint64_t seed = 1;
+  OptionTable t;
+  t.bind("s.seed", &seed, "a seed");
+  t.set("s.seed", "18446744073709551615", "c.yaml");
+  EXPECT_EQ(seed, 18446744073709551615ull);
+  EXPECT_THROW(t.set("s.seed", "-1", "c.yaml"), ConfigError);
+  EXPECT_THROW(t.set("s.seed", "1.5", "c.yaml"), ConfigError);
+  EXPECT_THROW(t.set("s.seed", "18446744073709551616", "c.yaml"), ConfigError);
+}
+
+TEST(OptionTable, ListKeysReadCommaSeparatedItemsAndWriteThemBack) {
+  std::vector<std::string> classes{"chair"};
+  OptionTable t;
+  t.bindList("s.classes", &classes, "class names");
+  t.apply(parseYamlSubset("s:\n  classes: \"potted plant , cup,,tv \"\n", "c.yaml"), "c.yaml");
+  EXPECT_EQ(classes, (std::vector<std::string>{"potted plant", "cup", "tv"}));
+  std::vector<std::string> read_back;
+  OptionTable u;
+  u.bindList("s.classes", &read_back, "class names");
+  u.apply(parseYamlSubset(t.toYaml(), "effective.yaml"), "effective.yaml");
+  EXPECT_EQ(read_back, classes);
 }
