@@ -13,6 +13,21 @@ namespace plslam {
 namespace {
 const Logger kLog("mapping");
 
+/// What differs between the two kinds of landmark for the window's bookkeeping: how the map
+/// finds and erases one, and which slots of a keyframe hold their ids.
+struct PointKind {
+  static MapPoint* get(Map* map, Id id) { return map->point(id); }
+  static void erase(Map* map, Id id) { map->erasePoint(id); }
+  static std::vector<Id>& slots(KeyFrame* kf) { return kf->point_ids; }
+  static int landmark(const BundleProblem::PointObs& obs) { return obs.point; }
+};
+struct LineKind {
+  static MapLine* get(Map* map, Id id) { return map->line(id); }
+  static void erase(Map* map, Id id) { map->eraseLine(id); }
+  static std::vector<Id>& slots(KeyFrame* kf) { return kf->line_ids; }
+  static int landmark(const BundleProblem::LineObs& obs) { return obs.line; }
+};
+
 /// A local bundle-adjustment problem and the map ids of its keyframes, points and lines
 /// (indexed as in the problem).
 struct LocalWindow {
@@ -71,24 +86,28 @@ int windowKeyframeIndex(Map* map, Id id, const LocalMapperOptions& options, Loca
   return w->kf_index[id];
 }
 
-/// Every observation of the window's landmarks (from keyframes in the window or joining it).
+/// Every observation of the landmarks `ids` from keyframes in the window or joining it, made
+/// into the problem's observation `make(keyframe index, landmark index, keyframe, feature index)`.
+template <typename Kind, typename MakeObservation>
+void addObservationsOf(Map* map, const std::vector<Id>& ids, const LocalMapperOptions& options, LocalWindow* w,
+                       MakeObservation make) {
+  for (size_t i = 0; i < ids.size(); ++i)
+    for (const auto& [kf, idx] : Kind::get(map, ids[i])->observations) {
+      const int k = windowKeyframeIndex(map, kf, options, w);
+      if (k >= 0) make(k, static_cast<int>(i), *map->keyframe(kf), idx);
+    }
+}
+
 void addObservations(Map* map, const LocalMapperOptions& options, LocalWindow* w) {
-  for (size_t i = 0; i < w->point_ids.size(); ++i) {
-    for (const auto& [kf, idx] : map->point(w->point_ids[i])->observations) {
-      const int k = windowKeyframeIndex(map, kf, options, w);
-      if (k < 0) continue;
-      const Keypoint& kp = map->keyframe(kf)->features.points[idx];
-      w->problem.point_obs.push_back({k, static_cast<int>(i), kp.uv, kp.octave, kp.depth_m});
-    }
-  }
-  for (size_t i = 0; i < w->line_ids.size(); ++i) {
-    for (const auto& [kf, idx] : map->line(w->line_ids[i])->observations) {
-      const int k = windowKeyframeIndex(map, kf, options, w);
-      if (k < 0) continue;
-      const Segment2D& s = map->keyframe(kf)->features.lines[idx];
-      w->problem.line_obs.push_back({k, static_cast<int>(i), s.p, s.q, s.octave});
-    }
-  }
+  BundleProblem& problem = w->problem;
+  addObservationsOf<PointKind>(map, w->point_ids, options, w, [&](int k, int i, const KeyFrame& kf, int idx) {
+    const Keypoint& kp = kf.features.points[idx];
+    problem.point_obs.push_back({k, i, kp.uv, kp.octave, kp.depth_m});
+  });
+  addObservationsOf<LineKind>(map, w->line_ids, options, w, [&](int k, int i, const KeyFrame& kf, int idx) {
+    const Segment2D& s = kf.features.lines[idx];
+    problem.line_obs.push_back({k, i, s.p, s.q, s.octave});
+  });
 }
 
 /// The local window around `keyframe`; call with the map locked.
@@ -118,32 +137,40 @@ void writeBack(Map* map, const LocalWindow& w, const BundleResult& r) {
     }
 }
 
-/// Outlying observations are dropped (the landmark stays if others support it); call with the map locked.
+/// The outlying observations `obs` of the landmarks `ids` are dropped (a landmark stays while
+/// others support it); call with the map locked.
+template <typename Kind, typename Observation>
+void dropOutliersOf(Map* map, const LocalWindow& w, const std::vector<Id>& ids, const std::vector<Observation>& obs,
+                    const std::vector<bool>& outlier) {
+  for (size_t o = 0; o < obs.size(); ++o) {
+    if (!outlier[o]) continue;
+    auto* landmark = Kind::get(map, ids[Kind::landmark(obs[o])]);
+    KeyFrame* kf = map->keyframe(w.kf_ids[obs[o].keyframe]);
+    if (!landmark || !kf) continue;
+    auto it = landmark->observations.find(kf->id);
+    if (it == landmark->observations.end()) continue;
+    Kind::slots(kf)[it->second] = kNoId;
+    landmark->observations.erase(it);
+    if (landmark->observations.empty()) Kind::erase(map, landmark->id);
+  }
+}
+
 void dropOutlierObservations(Map* map, const LocalWindow& w, const BundleResult& r) {
-  for (size_t o = 0; o < w.problem.point_obs.size(); ++o) {
-    if (!r.point_obs_outlier[o]) continue;
-    const auto& obs = w.problem.point_obs[o];
-    MapPoint* p = map->point(w.point_ids[obs.point]);
-    KeyFrame* kf = map->keyframe(w.kf_ids[obs.keyframe]);
-    if (!p || !kf) continue;
-    auto it = p->observations.find(kf->id);
-    if (it == p->observations.end()) continue;
-    kf->point_ids[it->second] = kNoId;
-    p->observations.erase(it);
-    if (p->observations.empty()) map->erasePoint(p->id);
+  dropOutliersOf<PointKind>(map, w, w.point_ids, w.problem.point_obs, r.point_obs_outlier);
+  dropOutliersOf<LineKind>(map, w, w.line_ids, w.problem.line_obs, r.line_obs_outlier);
+}
+
+/// Landmarks rarely found where they were predicted, and those still seen by one keyframe
+/// `cull_single_after` keyframes after their first.
+template <typename Landmark>
+std::vector<Id> landmarksToCull(const std::map<Id, Landmark>& landmarks, Id keyframe, const LocalMapperOptions& o) {
+  std::vector<Id> bad;
+  for (const auto& [id, l] : landmarks) {
+    const bool rarely_found = l.visible >= o.cull_min_visible && l.found < o.cull_found_ratio * l.visible;
+    const bool lonely = l.observations.size() < 2 && keyframe - l.first_keyframe >= o.cull_single_after;
+    if (rarely_found || lonely) bad.push_back(id);
   }
-  for (size_t o = 0; o < w.problem.line_obs.size(); ++o) {
-    if (!r.line_obs_outlier[o]) continue;
-    const auto& obs = w.problem.line_obs[o];
-    MapLine* l = map->line(w.line_ids[obs.line]);
-    KeyFrame* kf = map->keyframe(w.kf_ids[obs.keyframe]);
-    if (!l || !kf) continue;
-    auto it = l->observations.find(kf->id);
-    if (it == l->observations.end()) continue;
-    kf->line_ids[it->second] = kNoId;
-    l->observations.erase(it);
-    if (l->observations.empty()) map->eraseLine(l->id);
-  }
+  return bad;
 }
 
 // Validated before anything is built from them, so that errors name the `mapper.` key.
@@ -246,17 +273,8 @@ void LocalMapper::localBundleAdjustment(Id keyframe) {
 
 void LocalMapper::cull(Id keyframe) {
   std::lock_guard<std::mutex> lock(map_->mutex());
-  std::vector<Id> bad_points, bad_lines;
-  for (const auto& [id, p] : map_->points()) {
-    const bool rarely_found = p.visible >= options_.cull_min_visible && p.found < options_.cull_found_ratio * p.visible;
-    const bool lonely = p.observations.size() < 2 && keyframe - p.first_keyframe >= options_.cull_single_after;
-    if (rarely_found || lonely) bad_points.push_back(id);
-  }
-  for (const auto& [id, l] : map_->lines()) {
-    const bool rarely_found = l.visible >= options_.cull_min_visible && l.found < options_.cull_found_ratio * l.visible;
-    const bool lonely = l.observations.size() < 2 && keyframe - l.first_keyframe >= options_.cull_single_after;
-    if (rarely_found || lonely) bad_lines.push_back(id);
-  }
+  const std::vector<Id> bad_points = landmarksToCull(map_->points(), keyframe, options_);
+  const std::vector<Id> bad_lines = landmarksToCull(map_->lines(), keyframe, options_);
   for (Id id : bad_points) map_->erasePoint(id);
   for (Id id : bad_lines) map_->eraseLine(id);
   stats_.points_culled += static_cast<int>(bad_points.size());
