@@ -111,9 +111,10 @@ void LiveSession::slamLoop() {
         out.tracking_ms = msSince(t0);
         describe(*frame, r, &out);
       }
-      ++processed_;
-      tracked_ += out.tracked;
       if (listener_) listener_(out);
+      // Counted once the listener has the outcome: whoever waits on counts() sees its effects.
+      tracked_ += out.tracked;
+      ++processed_;
     }
   } catch (...) {
     // The System (or the listener) failed: stop taking frames; stop() rethrows.

@@ -102,7 +102,8 @@ class LiveSession {
   LiveSession(const LiveSession&) = delete;
   LiveSession& operator=(const LiveSession&) = delete;
 
-  /// Called with each frame's outcome on the SLAM thread. Set before start().
+  /// Called with each frame's outcome on the SLAM thread, before counts() counts the frame.
+  /// Set before start().
   void setFrameListener(std::function<void(const FrameOutcome&)> listener) { listener_ = std::move(listener); }
   /// Called after each update of the maps while running, on the maps thread (never when
   /// dense.enabled is false or both dense.live_every_* are 0). Set before start().
