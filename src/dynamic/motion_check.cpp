@@ -1,7 +1,8 @@
 #include "dynamic/motion_check.h"
 
+#include "core/rigid_fit.h"
+
 #include <Eigen/Geometry>
-#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -10,6 +11,14 @@
 namespace plslam {
 
 namespace {
+
+/// The rigid motion the pairs fix, or nullopt (fewer than three, or collinear points).
+std::optional<SE3> uniqueRigid(const std::vector<Eigen::Vector3d>& src, const std::vector<Eigen::Vector3d>& dst,
+                               const std::vector<double>& weights = {}) {
+  const std::optional<RigidFit> fit = fitRigid(src, dst, weights);
+  if (!fit || !fit->unique()) return std::nullopt;
+  return fit->T;
+}
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -130,7 +139,7 @@ std::optional<SE3> refitOnInliers(const DepthSet& s, const SE3& T, double thr) {
     b.push_back(s.c[k]);
     w.push_back(1.0 / (s.cov_p[k] + s.cov_c[k]).trace());
   }
-  return fitRigid(a, b, w);
+  return uniqueRigid(a, b, w);
 }
 
 /// Whether T moves the scene's points (RMS) within the tolerance of where the prior moves them
@@ -197,37 +206,6 @@ int MotionCheckResult::checkedCount() const {
 
 int MotionCheckResult::movingCount() const { return static_cast<int>(std::count(moving.begin(), moving.end(), 1)); }
 
-std::optional<SE3> fitRigid(const std::vector<Eigen::Vector3d>& src, const std::vector<Eigen::Vector3d>& dst,
-                            const std::vector<double>& weights) {
-  const size_t n = src.size();
-  if (n < 3 || dst.size() != n || (!weights.empty() && weights.size() != n)) return std::nullopt;
-  double wsum = 0;
-  Eigen::Vector3d cs = Eigen::Vector3d::Zero(), cd = Eigen::Vector3d::Zero();
-  for (size_t i = 0; i < n; ++i) {
-    const double w = weights.empty() ? 1.0 : weights[i];
-    wsum += w;
-    cs += w * src[i];
-    cd += w * dst[i];
-  }
-  if (!(wsum > 0)) return std::nullopt;
-  cs /= wsum;
-  cd /= wsum;
-  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
-  for (size_t i = 0; i < n; ++i) {
-    const double w = weights.empty() ? 1.0 : weights[i];
-    H += w * (src[i] - cs) * (dst[i] - cd).transpose();
-  }
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  const Eigen::Vector3d sv = svd.singularValues();
-  // Rank 2 is enough (three points, a plane); rank 1 (collinear) leaves a free rotation.
-  if (!(sv(0) > 1e-12) || sv(1) < 1e-6 * sv(0)) return std::nullopt;
-  const Eigen::Matrix3d U = svd.matrixU(), V = svd.matrixV();
-  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
-  if ((V * U.transpose()).determinant() < 0) D(2, 2) = -1;
-  const Eigen::Matrix3d R = V * D * U.transpose();
-  return SE3(R, cd - R * cs);
-}
-
 namespace {
 
 /// The correspondences with depth on both sides and finite pixels, with their covariances.
@@ -286,7 +264,7 @@ class MotionSearch {
       if (check == SampleCheck::kDegenerate) continue;
       ++good_samples;  // a proper triangle, rigid or not
       if (check == SampleCheck::kNotRigid) continue;
-      const auto T = fitRigid({s_.p[k[0]], s_.p[k[1]], s_.p[k[2]]}, {s_.c[k[0]], s_.c[k[1]], s_.c[k[2]]});
+      const auto T = uniqueRigid({s_.p[k[0]], s_.p[k[1]], s_.p[k[2]]}, {s_.c[k[0]], s_.c[k[1]], s_.c[k[2]]});
       if (!T || (prior_ && !nearPrior(s_, *T, *prior_, o_))) continue;  // only hypotheses near the prior count
       ++iter;
       consider(*T, false);

@@ -138,9 +138,4 @@ struct MotionCheckResult {
 MotionCheckResult checkMotion(const std::vector<MotionCorrespondence>& correspondences, const PinholeCamera& camera,
                               const MotionCheckOptions& options = {}, const std::optional<SE3>& prior = std::nullopt);
 
-/// Least-squares rigid transform T with dst_i ~ T * src_i, each pair weighted (Horn/Umeyama
-/// without scale). Returns nullopt for fewer than 3 pairs or a degenerate (collinear) set.
-std::optional<SE3> fitRigid(const std::vector<Eigen::Vector3d>& src, const std::vector<Eigen::Vector3d>& dst,
-                            const std::vector<double>& weights = {});
-
 }  // namespace plslam

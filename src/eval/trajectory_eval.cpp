@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/rigid_fit.h"
 #include "core/json.h"
 #include "core/log.h"
 #include "io/trajectory_file.h"
@@ -60,28 +61,6 @@ std::vector<StampMatch> associate(const Trajectory& gt, const Trajectory& est, d
   return associateStamps(a, b, max_difference_s);
 }
 
-SE3 alignRigid(const std::vector<Eigen::Vector3d>& src, const std::vector<Eigen::Vector3d>& dst) {
-  if (src.size() != dst.size() || src.size() < 3)
-    throw DataError(str("rigid alignment needs at least 3 point pairs, got ", std::min(src.size(), dst.size())));
-  const double n = static_cast<double>(src.size());
-  Eigen::Vector3d mean_src = Eigen::Vector3d::Zero(), mean_dst = Eigen::Vector3d::Zero();
-  for (size_t k = 0; k < src.size(); ++k) {
-    mean_src += src[k];
-    mean_dst += dst[k];
-  }
-  mean_src /= n;
-  mean_dst /= n;
-  // W = sum (src_k - mean_src)(dst_k - mean_dst)^T; with W^T = U S V^T the rotation is U D V^T.
-  Eigen::Matrix3d W = Eigen::Matrix3d::Zero();
-  for (size_t k = 0; k < src.size(); ++k) W += (src[k] - mean_src) * (dst[k] - mean_dst).transpose();
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(W.transpose(), Eigen::ComputeFullU | Eigen::ComputeFullV);
-  const Eigen::Matrix3d U = svd.matrixU(), V = svd.matrixV();
-  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
-  if (U.determinant() * V.determinant() < 0) D(2, 2) = -1;  // a reflection otherwise
-  const Eigen::Matrix3d R = U * D * V.transpose();
-  return SE3(R, mean_dst - R * mean_src);
-}
-
 AteResult computeAte(const Trajectory& gt, const Trajectory& est, const std::vector<StampMatch>& pairs) {
   AteResult r;
   r.pairs = pairs;
@@ -91,7 +70,8 @@ AteResult computeAte(const Trajectory& gt, const Trajectory& est, const std::vec
     p_est.push_back(est.at(m.second).T_w_c.translation());
   }
   if (pairs.size() < 3) throw DataError(str("ATE needs at least 3 associated poses, got ", pairs.size()));
-  r.T_gt_est = alignRigid(p_est, p_gt);
+  // A trajectory along a straight line fixes no rotation about it; any of the equal fits will do.
+  r.T_gt_est = fitRigid(p_est, p_gt)->T;
   const Eigen::Matrix3d R = r.T_gt_est.rotation();
   const Eigen::Vector3d t = r.T_gt_est.translation();
   r.errors.reserve(pairs.size());

@@ -39,10 +39,6 @@ Stats computeStats(const std::vector<double>& values);
 /// Associated (ground truth, estimate) pairs: StampMatch::first indexes `gt`, ::second `est`.
 std::vector<StampMatch> associate(const Trajectory& gt, const Trajectory& est, double max_difference_s = 0.02);
 
-/// Rigid transform (no scale) minimising sum ||T * src_k - dst_k||^2 (Horn's closed form via
-/// SVD, as evaluate_ate.py's align()). Needs at least 3 points (throws DataError otherwise).
-SE3 alignRigid(const std::vector<Eigen::Vector3d>& src, const std::vector<Eigen::Vector3d>& dst);
-
 struct AteResult {
   Stats stats;                     ///< of `errors`, metres
   SE3 T_gt_est;                    ///< maps estimate positions onto the ground truth

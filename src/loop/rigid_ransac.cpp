@@ -2,30 +2,26 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <optional>
 #include <random>
+
+#include "core/rigid_fit.h"
 
 namespace plslam {
 
-SE3 umeyamaRigid(const std::vector<Eigen::Vector3d>& p_a, const std::vector<Eigen::Vector3d>& p_b,
-                 const std::vector<char>& select) {
-  int n = 0;
-  for (size_t i = 0; i < p_a.size(); ++i) n += select.empty() || select[i];
-  if (n < 3) return SE3();
-  Eigen::Matrix3Xd A(3, n), B(3, n);
-  int c = 0;
-  for (size_t i = 0; i < p_a.size(); ++i) {
-    if (!select.empty() && !select[i]) continue;
-    A.col(c) = p_a[i];
-    B.col(c) = p_b[i];
-    ++c;
-  }
-  const Eigen::Matrix4d T = Eigen::umeyama(B, A, false);
-  if (!T.allFinite()) return SE3();
-  const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
-  return SE3(Eigen::Quaterniond(R).normalized(), T.topRightCorner<3, 1>());
+namespace {
+/// The rigid fit p_a ~ T * p_b over the selected pairs (all when `select` is empty); nullopt
+/// when they do not fix it (fewer than three, or collinear).
+std::optional<SE3> fitSelected(const std::vector<Eigen::Vector3d>& p_a, const std::vector<Eigen::Vector3d>& p_b,
+                               const std::vector<char>& select) {
+  std::vector<Eigen::Vector3d> a, b;
+  for (size_t i = 0; i < p_a.size(); ++i)
+    if (select.empty() || select[i]) a.push_back(p_a[i]), b.push_back(p_b[i]);
+  const std::optional<RigidFit> fit = fitRigid(b, a);
+  if (!fit || !fit->unique()) return std::nullopt;
+  return fit->T;
 }
 
-namespace {
 double gate(const Eigen::Vector3d& a, const RigidRansacOptions& o) { return o.threshold_m + o.depth_coeff * a.z() * a.z(); }
 
 bool isInlier(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const SE3& T, const RigidRansacOptions& o) {
@@ -106,6 +102,7 @@ RigidRansacResult ransacRigid(const std::vector<Eigen::Vector3d>& p_a, const std
   std::uniform_int_distribution<int> pick(0, n - 1);
   std::vector<char> best, cur(n), best_lines(nl), cur_lines(nl);
   int best_total = 0, best_points = 0;
+  SE3 best_sample;
   auto consensus = [&](const SE3& T) {
     int points = 0, total = 0;
     for (int m = 0; m < n; ++m) points += cur[m] = isInlier(p_a[m], p_b[m], T, o);
@@ -122,20 +119,23 @@ RigidRansacResult ransacRigid(const std::vector<Eigen::Vector3d>& p_a, const std
     // The rigid distances of the sample must agree in both clouds.
     if (std::fabs((p_a[j] - p_a[i]).norm() - e1.norm()) > 0.1 || std::fabs((p_a[k] - p_a[i]).norm() - e2.norm()) > 0.1)
       continue;
-    const SE3 T = umeyamaRigid({p_a[i], p_a[j], p_a[k]}, {p_b[i], p_b[j], p_b[k]});
-    const auto [points, total] = consensus(T);
-    if (points >= 3 && total > best_total) best_total = total, best_points = points, best = cur, best_lines = cur_lines;
+    const std::optional<SE3> T = fitSelected({p_a[i], p_a[j], p_a[k]}, {p_b[i], p_b[j], p_b[k]}, {});
+    if (!T) continue;
+    const auto [points, total] = consensus(*T);
+    if (points >= 3 && total > best_total)
+      best_total = total, best_points = points, best = cur, best_lines = cur_lines, best_sample = *T;
   }
   if (best_points < 3) return r;
-  auto fit = [&] {
-    const SE3 T = umeyamaRigid(p_a, p_b, best);
+  // A refit on collinear inliers fixes no rotation: the pose they agreed with stays.
+  auto fit = [&](const SE3& before) {
+    const SE3 T = fitSelected(p_a, p_b, best).value_or(before);
     bool any_line = false;
     for (char c : best_lines) any_line = any_line || c;
     return any_line ? refineRigid(T, p_a, p_b, best, lines, best_lines) : T;
   };
-  SE3 T;
+  SE3 T = best_sample;
   for (int round = 0; round < std::max(1, o.refine_rounds); ++round) {
-    T = fit();
+    T = fit(T);
     const auto [points, total] = consensus(T);
     if (points < 3) break;
     const bool same = cur == best && cur_lines == best_lines;
@@ -145,7 +145,7 @@ RigidRansacResult ransacRigid(const std::vector<Eigen::Vector3d>& p_a, const std
     best_total = total;
     if (same) break;
   }
-  T = fit();
+  T = fit(T);
   double sq = 0;
   for (int m = 0; m < n; ++m)
     if (best[m]) sq += (p_a[m] - T * p_b[m]).squaredNorm();

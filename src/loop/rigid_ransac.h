@@ -49,11 +49,6 @@ struct RigidRansacResult {
   double rmse_m = 0;             ///< over the point inliers
 };
 
-/// Least-squares rigid transform with p_a ~ T * p_b over the selected correspondences
-/// (all when `select` is empty). Needs three non-collinear points; returns identity otherwise.
-SE3 umeyamaRigid(const std::vector<Eigen::Vector3d>& p_a, const std::vector<Eigen::Vector3d>& p_b,
-                 const std::vector<char>& select = {});
-
 /// Whether a segment pair agrees with `T_a_b` (the line gate above).
 bool segmentsAgree(const SegmentPair3D& pair, const SE3& T_a_b, const RigidRansacOptions& options);
 

@@ -268,16 +268,6 @@ TEST(MotionCheck, MotionPriorKeepsTheBackgroundWhenAnObjectHasTheMajority) {
   EXPECT_LT(f.falsePositives(), 0.05);
 }
 
-TEST(MotionCheck, FitRigidRecoversAKnownTransform) {
-  const SE3 T(Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, -2, 0.5).normalized())), Eigen::Vector3d(0.3, -1, 2));
-  std::vector<Eigen::Vector3d> a = {{0, 0, 1}, {1, 0, 2}, {0, 1, 3}, {1, 1, 1}}, b;
-  for (const auto& p : a) b.push_back(T * p);
-  const auto fit = fitRigid(a, b);
-  ASSERT_TRUE(fit.has_value());
-  EXPECT_LT((fit->matrix() - T.matrix()).norm(), 1e-9);
-  EXPECT_FALSE(fitRigid({{0, 0, 1}, {0, 0, 2}, {0, 0, 3}}, {{0, 0, 1}, {0, 0, 2}, {0, 0, 3}}).has_value());
-}
-
 // ---------------------------------------------------------------------------------------------
 // Delaunay graph
 

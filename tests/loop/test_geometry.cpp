@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <random>
 
+#include "core/rigid_fit.h"
 #include "loop/rigid_ransac.h"
 
 using namespace plslam;
@@ -24,14 +25,16 @@ void exactPairs(const SE3& T, int n, std::mt19937* rng, std::vector<Eigen::Vecto
 }
 }  // namespace
 
-TEST(RigidRansac, UmeyamaRecoversAnExactTransform) {
+TEST(RigidRansac, RecoversAnExactTransformFromInliersOnly) {
   std::mt19937 rng(1);
   const SE3 T = someTransform();
   std::vector<Eigen::Vector3d> a, b;
   exactPairs(T, 20, &rng, &a, &b);
-  const SE3 est = umeyamaRigid(a, b);
-  EXPECT_LT((est.translation() - T.translation()).norm(), 1e-9);
-  EXPECT_LT(est.quaternion().angularDistance(T.quaternion()), 1e-9);
+  const RigidRansacResult r = ransacRigid(a, b, RigidRansacOptions{});
+  ASSERT_TRUE(r.ok);
+  EXPECT_EQ(r.inlier_count, 20);
+  EXPECT_LT((r.T_a_b.translation() - T.translation()).norm(), 1e-9);
+  EXPECT_LT(r.T_a_b.quaternion().angularDistance(T.quaternion()), 1e-9);
 }
 
 TEST(RigidRansac, FindsTheInliersAmongHalfOutliers) {
@@ -108,7 +111,7 @@ TEST(RigidRansac, RefinementWithLinesFixesWhatThreePointsLeaveLoose) {
     a.push_back(T * b.back() + Eigen::Vector3d(noise(rng), noise(rng), noise(rng)));
   }
   const std::vector<SegmentPair3D> lines = segmentsUnder(T, 12, &rng);
-  const SE3 from_points = umeyamaRigid(a, b);
+  const SE3 from_points = fitRigid(b, a)->T;
   const SE3 refined = refineRigid(from_points, a, b, {}, lines, {});
   const double before = from_points.quaternion().angularDistance(T.quaternion());
   const double after = refined.quaternion().angularDistance(T.quaternion());

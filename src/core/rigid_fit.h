@@ -1,0 +1,26 @@
+// The one least-squares rigid fit of plslam: the motion check's minimal samples and refits,
+// loop verification's 3D-3D RANSAC and the trajectory alignment of the ATE all use it.
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+#include "core/se3.h"
+
+namespace plslam {
+
+struct RigidFit {
+  SE3 T;         ///< dst_i ~ T * src_i
+  int rank = 0;  ///< of the pairs' cross-covariance: 2 or 3 fix T; 1 (collinear points) leaves a free rotation about their line, 0 (one place) any rotation; T is then one of the fits
+  bool unique() const { return rank >= 2; }
+};
+
+/// Least-squares rigid transform with dst_i ~ T * src_i, each pair weighted (Horn/Umeyama
+/// without scale; never a reflection). nullopt for fewer than 3 pairs, sizes that differ, or
+/// weights that sum to no more than 0; a collinear set is a fit of rank 1, for the caller to
+/// refuse (a pose from three points) or take (aligning a trajectory that went straight).
+std::optional<RigidFit> fitRigid(const std::vector<Eigen::Vector3d>& src, const std::vector<Eigen::Vector3d>& dst,
+                                 const std::vector<double>& weights = {});
+
+}  // namespace plslam
