@@ -3,7 +3,9 @@
 // kept in the form every stage shares (FrameFeatures), in ideal (undistorted) pixels.
 //
 // Thread safety: Map itself is not synchronised; the pipeline holds `mutex()` while it
-// reads or writes entities (tracking reads, local mapping writes).
+// reads or writes entities. Tracking writes too: it counts each landmark's `visible` and
+// `found`, and makes every keyframe with the map points its depth gives; local mapping
+// (observations, lines, culling, local BA) and the loop closer (corrections) write the rest.
 #pragma once
 
 #include <Eigen/Core>

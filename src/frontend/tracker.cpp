@@ -112,7 +112,7 @@ TrackingResult Tracker::trackInitialised(TimeNs t_ns, const FrameFeatures& f) {
     if (!lost_) {
       a = trackFromLastPose(nsToSeconds(t_ns - t_last_ns_), f, &m, &r);
     } else {
-      a = relocalise(f, &m);
+      a = relocalize(f, &m);
       if (a.ok) r.method = TrackingMethod::kRelocalisation;
       else if (shouldReanchor(t_ns, f)) return reanchor(t_ns, f);
     }
@@ -152,7 +152,7 @@ TrackingResult Tracker::trackInitialised(TimeNs t_ns, const FrameFeatures& f) {
   if (kLog.enabled(LogLevel::kDebug))
     kLog.debug(str("t=", formatSecondsStamp(t_ns), " points ", f.points.size(), " matched ", r.matched_points, " lines ",
                    f.lines.size(), " matched ", r.matched_lines, " moved ", (T_w_last_.inverse() * T_w_c).translation().norm()));
-  velocity_ = T_w_last_.inverse() * T_w_c;
+  T_prev_last_ = T_w_last_.inverse() * T_w_c;
   have_velocity_ = !relocalised;  // the last pose before the loss says nothing of the motion now
   T_w_last_ = T_w_c;
   t_last_ns_ = t_ns;
@@ -168,7 +168,7 @@ TrackingResult Tracker::trackInitialised(TimeNs t_ns, const FrameFeatures& f) {
 }
 
 Tracker::Attempt Tracker::trackFromLastPose(double dt_s, const FrameFeatures& f, Matches* m, TrackingResult* r) {
-  const SE3 predicted = have_velocity_ ? T_w_last_ * velocity_ : T_w_last_;
+  const SE3 predicted = have_velocity_ ? T_w_last_ * T_prev_last_ : T_w_last_;
   const LocalMap local = takeLocalMap();
   // Each way in turn; a pose that would need an impossible speed is a wrong one (a few
   // matches on a blurred frame can agree on it) and counts as a failure.
@@ -215,10 +215,10 @@ Tracker::Attempt Tracker::trackWithPrediction(const LocalMap& local, const SE3& 
 Tracker::Attempt Tracker::refineWithLocalMap(const LocalMap& local, const SE3& T_w_c, const FrameFeatures& f, Matches* m,
                                              int min_inliers) {
   Attempt a;
-  PoseOnlyResult pr = optimise(T_w_c, f, m);
+  PoseOnlyResult pr = optimizePose(T_w_c, f, m);
   if (pr.converged) {
     searchLocalMap(local, pr.T_w_c, f, options_.narrow_radius_px, m, true);
-    pr = optimise(pr.T_w_c, f, m);
+    pr = optimizePose(pr.T_w_c, f, m);
     a.ok = pr.converged && pr.inliers >= min_inliers;
   }
   a.T_w_c = pr.T_w_c;
@@ -595,7 +595,7 @@ void Tracker::countVisibleAndFound(const Matches& m, TrackingResult* r) {
     if (MapLine* l = id == kNoId ? nullptr : map_->line(id)) ++l->found, ++r->matched_lines;
 }
 
-PoseOnlyResult Tracker::optimise(const SE3& T_w_c, const FrameFeatures& f, Matches* m) {
+PoseOnlyResult Tracker::optimizePose(const SE3& T_w_c, const FrameFeatures& f, Matches* m) {
   const StageTimer timer(&times_, Stage::kPoseOptimisation);
   FrameObservations obs = matchedObservations(f, m->point_ids, m->line_ids);
   PoseOnlyProblem problem;
@@ -614,7 +614,7 @@ PoseOnlyResult Tracker::optimise(const SE3& T_w_c, const FrameFeatures& f, Match
   return r;
 }
 
-Tracker::Attempt Tracker::relocalise(const FrameFeatures& f, Matches* m) {
+Tracker::Attempt Tracker::relocalize(const FrameFeatures& f, Matches* m) {
   Attempt a;
   a.reason = "relocalisation failed: no keyframe matched";
   for (Id kf : relocalisationCandidates(f)) {

@@ -160,7 +160,7 @@ class Tracker {
   /// or without two tracked frames yet).
   std::optional<SE3> predictedMotion() const {
     if (!have_velocity_ || lost_) return std::nullopt;
-    return velocity_.inverse();
+    return T_prev_last_.inverse();
   }
   int lostEvents() const { return lost_events_; }
   int relocalisations() const { return relocalisations_; }
@@ -240,8 +240,8 @@ class Tracker {
                       bool record_visible);
   /// Counts the landmarks in m->visible_* as visible and the matched ones as found.
   void countVisibleAndFound(const Matches& m, TrackingResult* r);
-  PoseOnlyResult optimise(const SE3& T_w_c, const FrameFeatures& f, Matches* m);
-  Attempt relocalise(const FrameFeatures& f, Matches* m);
+  PoseOnlyResult optimizePose(const SE3& T_w_c, const FrameFeatures& f, Matches* m);
+  Attempt relocalize(const FrameFeatures& f, Matches* m);
   /// The keyframe sharing the most landmarks with the tracked frame (`fallback` if none):
   /// the reference in localisation, the place of the frame for the keyframe rules.
   Id keyframeSharingMost(const Matches& m, Id fallback) const;
@@ -261,7 +261,7 @@ class Tracker {
   FrameWords frame_words_;
 
   bool have_last_ = false, have_velocity_ = false, lost_ = false;
-  SE3 T_w_last_, velocity_;  // velocity_ = T_prev_last (last frame in the previous frame)
+  SE3 T_w_last_, T_prev_last_;  // the last frame in the one before it: the constant-velocity step
   TimeNs t_last_ns_ = 0;  // stamp of the last tracked frame
   Id reference_kf_ = kNoId;
   int frames_since_kf_ = 0;

@@ -12,7 +12,6 @@
 #include "core/log.h"
 #include "core/option_table.h"
 #include "loop/map_correction.h"
-#include "mapping/line_reconstruction.h"
 
 namespace plslam {
 
@@ -34,6 +33,7 @@ const char* toString(LoopStatus s) {
     case LoopStatus::kAccepted: return "accepted";
     case LoopStatus::kLowScore: return "low_score";
     case LoopStatus::kNoConsistentGroup: return "no_consistent_group";
+    case LoopStatus::kTooSoonAfterLoop: return "too_soon_after_loop";
     case LoopStatus::kTooFewMatches: return "too_few_matches";
     case LoopStatus::kTooFewInliers: return "too_few_inliers";
     case LoopStatus::kRejectedBySemantics: return "rejected_by_semantics";
@@ -46,17 +46,6 @@ double combinedScore(double orb, double lbd, bool lines_in_both, const LoopOptio
   const double wl = lines_in_both ? o.line_weight : 0.0;
   const double total = o.point_weight + wl;
   return total > 0 ? (o.point_weight * orb + wl * lbd) / total : 0.0;
-}
-
-FeatureGeometry linesFittedToDepth(const FrameFeatures& features, const cv::Mat& depth_m, const PinholeCamera& camera) {
-  const Eigen::Vector3d nan = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
-  FeatureGeometry g;
-  for (const Segment2D& l : features.lines) {
-    const std::optional<LineSegment3D> s =
-        depth_m.empty() ? std::nullopt : fitLine3D(l.p_raw, l.q_raw, depth_m, camera, LineFitOptions{});
-    g.lines.emplace_back(s ? s->P_c : nan, s ? s->Q_c : nan);
-  }
-  return g;
 }
 
 namespace {
@@ -352,7 +341,7 @@ std::optional<LoopCorrection> LoopCloser::verifyAndClose(const LoopQuery& query,
   const std::vector<KeyframeInstance>& instances = query.instances;
   for (LoopCandidate& c : passed) {
     if (keyframes_since_loop_ < options_.min_keyframes_between_loops) {
-      c.status = LoopStatus::kNoConsistentGroup;
+      c.status = LoopStatus::kTooSoonAfterLoop;
       c.reason = str("a loop was closed ", keyframes_since_loop_, " keyframes ago");
       record(c);
       continue;
@@ -557,7 +546,7 @@ void LoopCloser::globalBundleAdjustment(LoopCorrection* correction) {
     std::lock_guard<std::mutex> lock(map_->mutex());
     problem = globalBundleProblem(&kf_ids, &point_ids);
   }
-  const BundleResult r = LocalBundleAdjuster(options_.ba).adjust(camera_, problem);
+  const BundleResult r = BundleAdjuster(options_.ba).adjust(camera_, problem);
   if (!r.ok()) {
     kLog.warn(str("global BA after the loop failed (", toString(r.status), "); the pose-graph result is kept"));
     return;

@@ -52,12 +52,13 @@ enum class LoopStatus {
   kAccepted,             ///< verified and corrected
   kLowScore,             ///< similarity below the threshold
   kNoConsistentGroup,    ///< not seen consistently over enough consecutive keyframes
+  kTooSoonAfterLoop,     ///< fewer than min_keyframes_between_loops keyframes since the last loop
   kTooFewMatches,        ///< too few descriptor matches with depth
   kTooFewInliers,        ///< 3D-3D RANSAC left too few inliers
   kRejectedBySemantics,  ///< the instances contradict the place (before or after the pose)
   kCorrectionFailed,     ///< the pose graph did not converge
 };
-constexpr int kLoopStatusCount = 7;
+constexpr int kLoopStatusCount = 8;
 const char* toString(LoopStatus status);
 
 struct LoopOptions {
@@ -150,11 +151,6 @@ struct FeatureGeometry {
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> lines;  ///< per line: endpoints for p and q
 };
 
-/// The lines of `features` fitted to one depth image (fitLine3D with default options; NaN
-/// where the fit fails or there is no depth image), points left to their keypoints' depth:
-/// the geometry of a frame that is not a keyframe of a map. Throws DataError when a
-/// non-empty depth_m is not CV_32FC1.
-FeatureGeometry linesFittedToDepth(const FrameFeatures& features, const cv::Mat& depth_m, const PinholeCamera& camera);
 
 /// Geometric verification of two keyframes' features with depth: ORB matches with
 /// back-projected keypoints, 3D-3D RANSAC on them (rigid_ransac.h); then the lines whose 3D

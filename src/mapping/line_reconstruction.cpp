@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "core/map.h"
 #include "core/option_table.h"
 
 namespace plslam {
@@ -395,6 +396,20 @@ float endpointDepth(const cv::Mat& depth_m, const Eigen::Vector2d& uv, const Lin
 }
 
 }  // namespace
+
+std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> segmentsFittedToDepth(const std::vector<Segment2D>& segments,
+                                                                                const cv::Mat& depth_m,
+                                                                                const PinholeCamera& cam) {
+  const Eigen::Vector3d nan = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> out;
+  out.reserve(segments.size());
+  for (const Segment2D& l : segments) {
+    const std::optional<LineSegment3D> s =
+        depth_m.empty() ? std::nullopt : fitLine3D(l.p_raw, l.q_raw, depth_m, cam, LineFitOptions{});
+    out.emplace_back(s ? s->P_c : nan, s ? s->Q_c : nan);
+  }
+  return out;
+}
 
 std::optional<LineSegment3D> backprojectEndpoints(const Eigen::Vector2d& p_raw, const Eigen::Vector2d& q_raw,
                                                   const cv::Mat& depth_m, const PinholeCamera& cam,

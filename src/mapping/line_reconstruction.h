@@ -15,10 +15,14 @@
 #include <opencv2/core.hpp>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "camera/pinhole_camera.h"
 
 namespace plslam {
+
+struct Segment2D;  // core/map.h
 
 class OptionTable;
 
@@ -110,6 +114,14 @@ struct LineFitDiagnostics {
 std::optional<LineSegment3D> fitLine3D(const Eigen::Vector2d& p_raw, const Eigen::Vector2d& q_raw,
                                        const cv::Mat& depth_m, const PinholeCamera& cam,
                                        const LineFitOptions& options, LineFitDiagnostics* diag = nullptr);
+
+/// Each segment fitted to one depth image (fitLine3D with default options): its endpoints in
+/// the camera frame, for p and q, NaN where the fit fails or when depth_m is empty (a frame
+/// that is not a keyframe of a map, as `plslam eval loops` verifies them). Throws DataError
+/// when a non-empty depth_m is not CV_32FC1.
+std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> segmentsFittedToDepth(const std::vector<Segment2D>& segments,
+                                                                                const cv::Mat& depth_m,
+                                                                                const PinholeCamera& cam);
 
 /// The comparison method: back-project both endpoints with the depth at their pixel (3x3
 /// median or exact, see endpoint_median3x3). Both depths must be valid and in range, and the

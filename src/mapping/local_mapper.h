@@ -69,7 +69,7 @@ class LocalMapper {
   Map* map_;
   PinholeCamera camera_;
   LocalMapperOptions options_;
-  LocalBundleAdjuster adjuster_;
+  BundleAdjuster adjuster_;
   MapperStats stats_;
 };
 

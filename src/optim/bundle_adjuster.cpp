@@ -320,7 +320,7 @@ void restoreInput(const BundleProblem& problem, BundleResult* result) {
 
 }  // namespace
 
-LocalBundleAdjuster::LocalBundleAdjuster(BundleAdjusterOptions options) : options_(std::move(options)) {
+BundleAdjuster::BundleAdjuster(BundleAdjusterOptions options) : options_(std::move(options)) {
   options_.model.validate();
   if (options_.max_iterations < 1 || options_.refine_iterations < 0 || !(options_.max_time_s >= 0.0) ||
       options_.num_threads < 1)
@@ -329,7 +329,7 @@ LocalBundleAdjuster::LocalBundleAdjuster(BundleAdjusterOptions options) : option
                           ") and max_time_s (", options_.max_time_s, ") >= 0"));
 }
 
-BundleResult LocalBundleAdjuster::adjust(const PinholeCamera& camera, const BundleProblem& problem) const {
+BundleResult BundleAdjuster::adjust(const PinholeCamera& camera, const BundleProblem& problem) const {
   const auto t0 = Clock::now();
   checkIndices(problem);
   const MeasurementModel& model = options_.model;

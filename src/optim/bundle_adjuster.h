@@ -1,4 +1,4 @@
-// Local bundle adjustment of keyframe poses, map points and 3D line segments.
+// Bundle adjustment (local and global) of keyframe poses, map points and 3D line segments.
 //
 // A 3D line is its two world endpoints (P, Q); each observation is a 2D segment whose
 // residual is the pixel distance of the projections of P and Q to the observed infinite
@@ -99,9 +99,11 @@ struct BundleAdjusterOptions {
 /// Binds `prefix` + "iterations", "refine_iterations", ...; the model is bound apart (bindMeasurementModel).
 void bindBundleAdjusterOptions(OptionTable* table, const std::string& prefix, BundleAdjusterOptions* options);
 
-class LocalBundleAdjuster {
+/// Bundle adjustment of the keyframes and landmarks a problem holds: the local BA of the
+/// mapper (a window of free keyframes, the rest fixed) and the loop closer's global BA alike.
+class BundleAdjuster {
  public:
-  explicit LocalBundleAdjuster(BundleAdjusterOptions options = {});
+  explicit BundleAdjuster(BundleAdjusterOptions options = {});
   /// Throws DataError when an observation refers to a keyframe or landmark out of range.
   /// Degenerate input (no observations, none usable) returns a non-kOk status and the input values.
   BundleResult adjust(const PinholeCamera& camera, const BundleProblem& problem) const;

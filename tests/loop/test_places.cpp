@@ -9,6 +9,7 @@
 
 #include "frontend/feature_extraction.h"
 #include "loop/loop_closer.h"
+#include "mapping/line_reconstruction.h"
 #include "synth/renderer.h"
 
 using namespace plslam;
@@ -59,6 +60,13 @@ LoopOptions singleRevisitOptions() {
   return o;
 }
 
+/// The view's lines fitted to its depth image (as `plslam eval loops` does for frames).
+FeatureGeometry linesFittedToDepth(const View& v) {
+  FeatureGeometry g;
+  g.lines = segmentsFittedToDepth(v.features.lines, v.frame.depth_m, scene().camera());
+  return g;
+}
+
 KeyFrame keyframeOf(const View& v) {
   KeyFrame kf;
   kf.T_w_c = v.T_w_c, kf.features = v.features;
@@ -104,10 +112,10 @@ TEST(LoopPlaces, TwoViewsOfOnePlaceGiveTheRelativePoseWithinTwoCentimetresAndOne
 TEST(LoopPlaces, LinesKnownInThreeDimensionsArePairedUnderThePointsPoseAndJoinTheFit) {
   const SE3 T_w_a = scene().cameraPose(0);
   const View a = render(T_w_a, 1), b = render(T_w_a * kOffset, 2);
-  const FeatureGeometry ga = linesFittedToDepth(a.features, a.frame.depth_m, scene().camera());
-  const FeatureGeometry gb = linesFittedToDepth(b.features, b.frame.depth_m, scene().camera());
+  const FeatureGeometry ga = linesFittedToDepth(a), gb = linesFittedToDepth(b);
   // Without a depth image no line is known in 3D (and nothing throws).
-  const FeatureGeometry none = linesFittedToDepth(a.features, cv::Mat(), scene().camera());
+  FeatureGeometry none;
+  none.lines = segmentsFittedToDepth(a.features.lines, cv::Mat(), scene().camera());
   ASSERT_EQ(none.lines.size(), a.features.lines.size());
   for (const auto& [p, q] : none.lines) EXPECT_FALSE(p.allFinite() || q.allFinite());
   const SE3 truth = a.T_w_c.inverse() * b.T_w_c;
@@ -261,5 +269,35 @@ TEST(LoopPlaces, KeyframesOfALoadedMapAreRecognisedOnceIndexed) {
       EXPECT_FALSE(proposed) << "the loaded keyframe is unknown to the database";
       EXPECT_FALSE(correction.has_value());
     }
+  }
+}
+
+TEST(LoopPlaces, ARevisitRightAfterAClosedLoopIsRefusedAsTooSoon) {
+  // Three keyframes of one place: the second closes a loop with the first; the third comes
+  // the next keyframe, sooner than min_keyframes_between_loops allows, and is refused for
+  // that reason (not for want of a consistent group). With no minimum it is verified.
+  const SE3 T_w_a = scene().cameraPose(0);
+  const View a = render(T_w_a, 1), b = render(T_w_a * kOffset, 2), c = render(T_w_a * kOffset.inverse(), 3);
+  for (const int min_between : {5, 0}) {
+    Map map;
+    LoopOptions o = singleRevisitOptions();
+    o.min_keyframes_between_loops = min_between;
+    KeyFrame kb = keyframeOf(b);
+    kb.T_w_c = b.T_w_c * SE3(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.05, 0, 0));  // drifted
+    const Id ia = map.addKeyFrame(keyframeOf(a));
+    LoopCloser closer(&map, scene().camera(), o, vocabulary());
+    closer.processKeyframe(ia);
+    ASSERT_TRUE(closer.processKeyframe(map.addKeyFrame(kb)).has_value()) << closer.log().back().reason;
+    const Id ic = map.addKeyFrame(keyframeOf(c));
+    closer.processKeyframe(ic);
+    int candidates = 0, too_soon = 0;  // of the third keyframe: both earlier ones are its candidates
+    for (const LoopCandidate& k : closer.log()) {
+      if (k.query != ic) continue;
+      ++candidates;
+      too_soon += k.status == LoopStatus::kTooSoonAfterLoop;
+    }
+    ASSERT_GE(candidates, 1);
+    EXPECT_EQ(closer.stats().refused[static_cast<int>(LoopStatus::kTooSoonAfterLoop)], too_soon);
+    EXPECT_EQ(too_soon, min_between > 0 ? candidates : 0) << closer.log().back().reason;
   }
 }

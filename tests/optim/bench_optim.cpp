@@ -57,7 +57,7 @@ void benchBundle(int reps, int n_kf, int n_points, int n_lines, int views, const
     for (auto& p : s.problem.points) p.p_w += 0.02 * randomUnit(rng);
     for (auto& l : s.problem.lines) l.P_w += 0.02 * randomUnit(rng), l.Q_w += 0.02 * randomUnit(rng);
     BundleAdjusterOptions options;  // defaults: 10 + 10 iterations, dense Schur, 1 thread
-    const BundleResult r = LocalBundleAdjuster(options).adjust(cam, s.problem);
+    const BundleResult r = BundleAdjuster(options).adjust(cam, s.problem);
     if (!r.ok()) std::printf("  run %d: %s\n", i, toString(r.status));
     ms.push_back(r.time_ms);
     iterations = r.iterations;

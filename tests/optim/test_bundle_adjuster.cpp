@@ -60,7 +60,7 @@ double bundlePointRms(const PinholeCamera& cam, const BundleProblem& p) {
   return pointRmsPx(cam, p, T, P);
 }
 
-TEST(LocalBundleAdjuster, ExactMeasurementsConvergeToTheTruth) {
+TEST(BundleAdjuster, ExactMeasurementsConvergeToTheTruth) {
   std::mt19937 rng(10);
   const PinholeCamera cam = syntheticCamera();
   BundleScene s = makeBundleScene(cam, 10, 200, 30, false, 0.0, rng);  // no depth: two fixed frames set the scale
@@ -68,7 +68,7 @@ TEST(LocalBundleAdjuster, ExactMeasurementsConvergeToTheTruth) {
   perturbAll(s.problem, rng);
   BundleAdjusterOptions options;
   options.max_iterations = 50;
-  const BundleResult r = LocalBundleAdjuster(options).adjust(cam, s.problem);
+  const BundleResult r = BundleAdjuster(options).adjust(cam, s.problem);
   ASSERT_TRUE(r.ok()) << toString(r.status);
   EXPECT_EQ(r.outliers, 0);
   EXPECT_LT(pointRmsPx(cam, s.problem, r.T_w_c, r.points), 1e-3);
@@ -80,7 +80,7 @@ TEST(LocalBundleAdjuster, ExactMeasurementsConvergeToTheTruth) {
   EXPECT_LT(worst, 1e-4);
 }
 
-TEST(LocalBundleAdjuster, ConvergesFromPerturbedTruthWithNoisyPointsAndLines) {
+TEST(BundleAdjuster, ConvergesFromPerturbedTruthWithNoisyPointsAndLines) {
   std::mt19937 rng(11);
   const PinholeCamera cam = syntheticCamera();
   BundleScene s = makeBundleScene(cam, 10, 200, 30, true, 0.5, rng);
@@ -90,7 +90,7 @@ TEST(LocalBundleAdjuster, ConvergesFromPerturbedTruthWithNoisyPointsAndLines) {
 
   BundleAdjusterOptions options;
   options.max_iterations = 30;
-  const BundleResult r = LocalBundleAdjuster(options).adjust(cam, s.problem);
+  const BundleResult r = BundleAdjuster(options).adjust(cam, s.problem);
   ASSERT_TRUE(r.ok()) << toString(r.status);
   EXPECT_LT(r.final_cost, r.initial_cost);
 
@@ -116,13 +116,13 @@ TEST(LocalBundleAdjuster, ConvergesFromPerturbedTruthWithNoisyPointsAndLines) {
   EXPECT_LT(r.outliers, 0.05 * (s.problem.point_obs.size() + s.problem.line_obs.size()));
 }
 
-TEST(LocalBundleAdjuster, LineEndpointsDoNotSlideAlongTheLine) {
+TEST(BundleAdjuster, LineEndpointsDoNotSlideAlongTheLine) {
   std::mt19937 rng(12);
   const PinholeCamera cam = syntheticCamera();
   BundleScene s = makeBundleScene(cam, 6, 50, 20, true, 0.5, rng);
   s.problem.keyframes[0].fixed = true;
   perturbAll(s.problem, rng);
-  const BundleResult r = LocalBundleAdjuster().adjust(cam, s.problem);
+  const BundleResult r = BundleAdjuster().adjust(cam, s.problem);
   ASSERT_TRUE(r.ok()) << toString(r.status);
   for (size_t i = 0; i < s.lines_true.size(); ++i) {
     const auto& in = s.problem.lines[i];
@@ -135,7 +135,7 @@ TEST(LocalBundleAdjuster, LineEndpointsDoNotSlideAlongTheLine) {
   }
 }
 
-TEST(LocalBundleAdjuster, RepeatedAdjustmentsDoNotShrinkOrDriftLines) {
+TEST(BundleAdjuster, RepeatedAdjustmentsDoNotShrinkOrDriftLines) {
   // A mapper runs BA again and again on the same lines: the noise must not make them
   // shrink (endpoint-to-line residuals pull endpoints inwards if they may slide).
   std::mt19937 rng(18);
@@ -145,7 +145,7 @@ TEST(LocalBundleAdjuster, RepeatedAdjustmentsDoNotShrinkOrDriftLines) {
   std::vector<double> length0;
   for (const auto& l : s.problem.lines) length0.push_back((l.Q_w - l.P_w).norm());
   for (int run = 0; run < 5; ++run) {
-    const BundleResult r = LocalBundleAdjuster().adjust(cam, s.problem);
+    const BundleResult r = BundleAdjuster().adjust(cam, s.problem);
     ASSERT_TRUE(r.ok()) << toString(r.status);
     for (size_t k = 0; k < r.T_w_c.size(); ++k) s.problem.keyframes[k].T_w_c = r.T_w_c[k];
     for (size_t i = 0; i < r.points.size(); ++i) s.problem.points[i].p_w = r.points[i];
@@ -158,7 +158,7 @@ TEST(LocalBundleAdjuster, RepeatedAdjustmentsDoNotShrinkOrDriftLines) {
   }
 }
 
-TEST(LocalBundleAdjuster, FlagsGrossOutlierObservations) {
+TEST(BundleAdjuster, FlagsGrossOutlierObservations) {
   std::mt19937 rng(13);
   const PinholeCamera cam = syntheticCamera();
   BundleScene s = makeBundleScene(cam, 6, 150, 20, true, 0.5, rng);
@@ -184,7 +184,7 @@ TEST(LocalBundleAdjuster, FlagsGrossOutlierObservations) {
   perturbAll(s.problem, rng);
   BundleAdjusterOptions options;
   options.max_iterations = 20;
-  const BundleResult r = LocalBundleAdjuster(options).adjust(cam, s.problem);
+  const BundleResult r = BundleAdjuster(options).adjust(cam, s.problem);
   ASSERT_TRUE(r.ok()) << toString(r.status);
   int missed = 0, false_alarms = 0, good = 0;
   for (size_t i = 0; i < corrupted.size(); ++i) {
@@ -203,7 +203,7 @@ TEST(LocalBundleAdjuster, FlagsGrossOutlierObservations) {
     EXPECT_LT((r.T_w_c[k].translation() - s.T_w_c_true[k].translation()).norm(), 1e-2) << "keyframe " << k;
 }
 
-TEST(LocalBundleAdjuster, FixedKeyframesAndLandmarksStayPut) {
+TEST(BundleAdjuster, FixedKeyframesAndLandmarksStayPut) {
   std::mt19937 rng(14);
   const PinholeCamera cam = syntheticCamera();
   BundleScene s = makeBundleScene(cam, 5, 60, 10, false, 0.5, rng);
@@ -211,7 +211,7 @@ TEST(LocalBundleAdjuster, FixedKeyframesAndLandmarksStayPut) {
   perturbAll(s.problem, rng);
   s.problem.points[3].fixed = true;
   s.problem.lines[2].fixed = true;
-  const BundleResult r = LocalBundleAdjuster().adjust(cam, s.problem);
+  const BundleResult r = BundleAdjuster().adjust(cam, s.problem);
   ASSERT_TRUE(r.ok()) << toString(r.status);
   for (int k : {0, 1}) EXPECT_LT((r.T_w_c[k].translation() - s.problem.keyframes[k].T_w_c.translation()).norm(), 1e-12);
   EXPECT_EQ(r.points[3], s.problem.points[3].p_w);
@@ -219,12 +219,12 @@ TEST(LocalBundleAdjuster, FixedKeyframesAndLandmarksStayPut) {
   EXPECT_NE(r.points[4], s.problem.points[4].p_w);
 }
 
-TEST(LocalBundleAdjuster, DegenerateInputsReturnAStatus) {
+TEST(BundleAdjuster, DegenerateInputsReturnAStatus) {
   const PinholeCamera cam = syntheticCamera();
   {
     BundleProblem p;
     p.keyframes.push_back({pathPose(0, 2), true});
-    const BundleResult r = LocalBundleAdjuster().adjust(cam, p);
+    const BundleResult r = BundleAdjuster().adjust(cam, p);
     EXPECT_EQ(r.status, OptimStatus::kNoObservations);
     EXPECT_FALSE(r.ok());
   }
@@ -233,7 +233,7 @@ TEST(LocalBundleAdjuster, DegenerateInputsReturnAStatus) {
     BundleScene s = makeBundleScene(cam, 3, 20, 5, true, 0.0, rng);
     const SE3 flip(Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY())), Eigen::Vector3d::Zero());
     for (auto& kf : s.problem.keyframes) kf.T_w_c = kf.T_w_c * flip;
-    const BundleResult r = LocalBundleAdjuster().adjust(cam, s.problem);
+    const BundleResult r = BundleAdjuster().adjust(cam, s.problem);
     EXPECT_EQ(r.status, OptimStatus::kNoValidObservations);
     EXPECT_EQ(r.outliers, 0 + static_cast<int>(std::count(r.point_obs_outlier.begin(), r.point_obs_outlier.end(), true) +
                                               std::count(r.line_obs_outlier.begin(), r.line_obs_outlier.end(), true)));
@@ -245,7 +245,7 @@ TEST(LocalBundleAdjuster, DegenerateInputsReturnAStatus) {
     std::mt19937 rng(16);
     BundleScene s = makeBundleScene(cam, 2, 5, 0, false, 0.0, rng);
     s.problem.point_obs[0].point = 99;
-    EXPECT_THROW(LocalBundleAdjuster().adjust(cam, s.problem), DataError);
+    EXPECT_THROW(BundleAdjuster().adjust(cam, s.problem), DataError);
   }
   {
     std::mt19937 rng(17);
@@ -253,6 +253,6 @@ TEST(LocalBundleAdjuster, DegenerateInputsReturnAStatus) {
     for (auto& kf : s.problem.keyframes) kf.fixed = true;
     for (auto& p : s.problem.points) p.fixed = true;
     for (auto& l : s.problem.lines) l.fixed = true;
-    EXPECT_EQ(LocalBundleAdjuster().adjust(cam, s.problem).status, OptimStatus::kNothingToOptimise);
+    EXPECT_EQ(BundleAdjuster().adjust(cam, s.problem).status, OptimStatus::kNothingToOptimise);
   }
 }

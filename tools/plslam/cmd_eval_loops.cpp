@@ -49,6 +49,7 @@
 #include "frontend/feature_extraction.h"
 #include "io/dataset.h"
 #include "loop/loop_closer.h"
+#include "mapping/line_reconstruction.h"
 #include "run_session.h"
 
 namespace plslam::cli {
@@ -81,7 +82,7 @@ FrameDescription describeFrame(const RgbdFrame& frame, const cv::Mat& mask, cons
   FrameDescription d;
   d.features = extractFeatures(frame, mask, camera, fo);
   // The loop closer verifies with map lines; here each line is fitted to this frame's depth.
-  d.geometry = linesFittedToDepth(d.features, frame.depth_m, camera);
+  d.geometry.lines = segmentsFittedToDepth(d.features.lines, frame.depth_m, camera);
   d.bow = describeBow(vocab, d.features);
   return d;
 }
