@@ -1,5 +1,6 @@
 #include "frontend/dynamic_filter.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -21,22 +22,20 @@ bool dynamicAt(const cv::Mat& mask, const Eigen::Vector2d& uv) {
 }
 }  // namespace
 
-int removeDynamicPoints(FrameFeatures* f, const cv::Mat& mask, const std::vector<uint8_t>& point_dynamic) {
+std::vector<uint8_t> removeDynamicPoints(FrameFeatures* f, const cv::Mat& mask, const std::vector<uint8_t>& point_dynamic) {
   std::vector<Keypoint> points;
   cv::Mat point_desc(0, 32, CV_8U);
-  int removed = 0;
+  std::vector<uint8_t> kept(f->points.size(), 0);
   for (size_t i = 0; i < f->points.size(); ++i) {
     const bool flagged = i < point_dynamic.size() && point_dynamic[i];
-    if (flagged || (!mask.empty() && dynamicAt(mask, f->points[i].uv_raw))) {
-      ++removed;
-      continue;
-    }
+    if (flagged || (!mask.empty() && dynamicAt(mask, f->points[i].uv_raw))) continue;
+    kept[i] = 1;
     points.push_back(f->points[i]);
     point_desc.push_back(f->point_descriptors.row(static_cast<int>(i)));
   }
   f->points = std::move(points);
   f->point_descriptors = point_desc;
-  return removed;
+  return kept;
 }
 
 int removeDynamicLines(FrameFeatures* f, const cv::Mat& mask, double line_fraction) {
@@ -319,7 +318,8 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
     if (i < fused.feature_dynamic.size() && fused.feature_dynamic[i]) point_dynamic[corr_keypoint[i]] = 1;
   for (size_t k = 0; k < point_dynamic.size(); ++k)  // unmatched keypoints their neighbours found moving
     if (checked_motion[k] < 0 && r.point_motion[k] == 1) point_dynamic[k] = 1;
-  r.points_rejected = removeDynamicPoints(f, fused.mask, point_dynamic);
+  r.point_kept = removeDynamicPoints(f, fused.mask, point_dynamic);
+  r.points_rejected = static_cast<int>(std::count(r.point_kept.begin(), r.point_kept.end(), 0));
   r.lines_rejected = removeDynamicLines(f, fused.mask, options_.line_masked_fraction);
   r.filter_ms = msSince(t0);
   if (kLog.enabled(LogLevel::kDebug))

@@ -89,6 +89,9 @@ struct DynamicFrameResult {
   /// Per input keypoint, what the geometric checks said, after label spreading and before
   /// masks were applied: -1 unjudged, 0 still, 1 moving.
   std::vector<int8_t> point_motion;
+  /// Per input keypoint (the indexing of point_motion): 1 if process() kept it in the
+  /// features, 0 if it removed it. Empty when the filter is off (all kept).
+  std::vector<uint8_t> point_kept;
 };
 
 class DynamicFilter {
@@ -149,8 +152,8 @@ class DynamicFilter {
 };
 
 /// Removes from `f` the keypoints on dynamic pixels of `mask` or flagged in `point_dynamic`
-/// (per keypoint, may be empty). Returns how many were removed.
-int removeDynamicPoints(FrameFeatures* f, const cv::Mat& mask, const std::vector<uint8_t>& point_dynamic);
+/// (per keypoint, may be empty). Returns, per keypoint of `f` as it came in, 1 if it was kept.
+std::vector<uint8_t> removeDynamicPoints(FrameFeatures* f, const cv::Mat& mask, const std::vector<uint8_t>& point_dynamic);
 /// Removes from `f` the segments with more than `line_fraction` of their length on dynamic
 /// pixels of `mask`. Returns how many were removed.
 int removeDynamicLines(FrameFeatures* f, const cv::Mat& mask, double line_fraction);

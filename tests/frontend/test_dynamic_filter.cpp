@@ -310,5 +310,29 @@ TEST(DynamicFilterSchedule, ADisabledFilterNeitherSegmentsNorRemovesFeatures) {
   EXPECT_EQ(calls.load(), 0);
 }
 
+// The keep-mask is indexed like the keypoints that came in: its 1s, in order, are exactly
+// the keypoints left in the features, and its 0s are the rejected count.
+TEST(DynamicFilterResult, KeepMaskNamesTheKeypointsLeftInTheFeatures) {
+  std::atomic<int> calls{0}, concurrent{0};
+  DynamicFilter filter(frames().camera, DynamicFilterOptions{},
+                       std::make_unique<SlowSegmenter>(std::chrono::milliseconds(0), &calls, &concurrent), false);
+  int rejected = 0;
+  for (const synth::RenderedFrame& r : frames().rendered) {
+    const RgbdFrame frame = r.toRgbdFrame();
+    FrameFeatures f = extractFeatures(frame, cv::Mat(), frames().camera, FeatureOptions{});
+    const std::vector<Keypoint> before = f.points;
+    const DynamicFrameResult res = filter.process(frame, &f, std::nullopt);
+    ASSERT_EQ(res.point_kept.size(), before.size());
+    std::vector<Eigen::Vector2d> kept;
+    for (size_t i = 0; i < before.size(); ++i)
+      if (res.point_kept[i]) kept.push_back(before[i].uv_raw);
+    ASSERT_EQ(kept.size(), f.points.size());
+    for (size_t i = 0; i < kept.size(); ++i) EXPECT_EQ(kept[i], f.points[i].uv_raw);
+    EXPECT_EQ(res.points_rejected, static_cast<int>(before.size() - kept.size()));
+    rejected += res.points_rejected;
+  }
+  EXPECT_GT(rejected, 0) << "the walkers' masks remove keypoints";
+}
+
 }  // namespace
 }  // namespace plslam

@@ -60,15 +60,13 @@ Confusion scoreRejection(SegmenterKind kind, int first, int count) {
     if (i >= 2) prior = scene.cameraPose(i - 1).inverse() * scene.cameraPose(i - 2);
     const DynamicFrameResult res = filter.process(frame, &f, prior);
     EXPECT_EQ(res.point_motion.size(), before.size());
-    if (res.point_motion.size() != before.size()) return c;
+    EXPECT_EQ(res.point_kept.size(), before.size());
+    if (res.point_motion.size() != before.size() || res.point_kept.size() != before.size()) return c;
     if (i < first + o.compare_gap) continue;
     cv::Mat dist;  // pixels to the nearest person pixel
     cv::distanceTransform(r.instance_ids == 0, dist, cv::DIST_L2, 3);
-    // Kept keypoints are a subsequence of the extracted ones.
-    size_t k = 0;
     for (const Keypoint& p : before) {
-      const bool kept = k < f.points.size() && f.points[k].uv_raw == p.uv_raw;
-      k += kept;
+      const bool kept = res.point_kept[&p - before.data()];
       const bool truth = onPerson(r.instance_ids, p.uv_raw);
       const float d = dist.at<float>(cvRound(p.uv_raw.y()), cvRound(p.uv_raw.x()));
       const int8_t motion = res.point_motion[&p - before.data()];
