@@ -82,8 +82,14 @@ void validateDenseOptions(const DenseOptions& o) {
   need(o.floor_search_fraction > 0 && o.floor_search_fraction <= 1, "floor_search_fraction", "must be in (0, 1]");
   need(o.grid_max_height_m > o.grid_min_height_m, "grid_max_height_m", "must exceed grid_min_height_m");
   need(o.grid_resolution_m >= 0.005 && o.grid_resolution_m <= 10, "grid_resolution_m", "must be in [0.005, 10]");
-  need(o.grid_free_thresh > 0 && o.grid_free_thresh < o.grid_occupied_thresh && o.grid_occupied_thresh < 1,
-       "grid_occupied_thresh", "need 0 < grid_free_thresh < grid_occupied_thresh < 1");
+  // map_server reads a pixel p of grid.pgm as occupancy (255 - p) / 255: the free cells (254)
+  // as 1/255, the unknown ones (205) as 50/255, the occupied ones (0) as 1. Thresholds on the
+  // wrong side of those turn unknown space into free (or occupied) space for the planner.
+  need(o.grid_free_thresh > 1.0 / 255 && o.grid_free_thresh < 50.0 / 255, "grid_free_thresh",
+       "must be in (1/255, 50/255) = (0.0039, 0.1961): map_server reads free cells as 1/255 and unknown cells as "
+       "50/255, so from 50/255 up unknown space reads as free");
+  need(o.grid_occupied_thresh > 50.0 / 255 && o.grid_occupied_thresh < 1, "grid_occupied_thresh",
+       "must be in (50/255, 1) = (0.1961, 1): map_server reads unknown cells as 50/255 and occupied cells as 1");
   need(o.live_every_keyframes >= 0, "live_every_keyframes", "must be >= 0 (0: not by count)");
   need(o.live_every_s >= 0, "live_every_s", "must be >= 0 (0: not by time)");
   need(o.live_nice >= 0 && o.live_nice <= 19, "live_nice", "must be in 0..19");

@@ -100,6 +100,34 @@ TEST(DenseOptions, OutOfRangeValuesAreRefusedNamingTheKey) {
   }
 }
 
+// map_server reads unknown cells (205) as occupancy 50/255: a free threshold from there up
+// would make the planner drive through unexplored space, an occupied one below would wall it.
+TEST(DenseOptions, GridThresholdsThatMapServerWouldReadUnknownCellsAcrossAreRefused) {
+  EXPECT_NO_THROW(validateDenseOptions(DenseOptions())) << "map_server's own defaults 0.196 / 0.65";
+  const struct {
+    double free_thresh, occupied_thresh;
+    const char* key;
+  } bad[] = {{50.0 / 255, 0.65, "dense.grid_free_thresh"},
+             {0.25, 0.65, "dense.grid_free_thresh"},
+             {0.001, 0.65, "dense.grid_free_thresh"},
+             {0.1, 0.19, "dense.grid_occupied_thresh"},
+             {0.1, 1.0, "dense.grid_occupied_thresh"}};
+  for (const auto& b : bad) {
+    DenseOptions o;
+    o.grid_free_thresh = b.free_thresh;
+    o.grid_occupied_thresh = b.occupied_thresh;
+    try {
+      validateDenseOptions(o);
+      ADD_FAILURE() << b.free_thresh << " / " << b.occupied_thresh << " accepted";
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(b.key), std::string::npos) << e.what();
+    }
+  }
+  DenseOptions just_below;
+  just_below.grid_free_thresh = 49.9 / 255;
+  EXPECT_NO_THROW(validateDenseOptions(just_below));
+}
+
 TEST(GridYaml, ReadsMapServerYamlAndRefusesMalformedFilesNamingKeyAndLine) {
   const std::string good =
       "image: grid.pgm\nresolution: 0.05\norigin: [-1.5, 2.0, 0.0]\nnegate: 0\noccupied_thresh: 0.65\n"
