@@ -96,7 +96,12 @@ void readRgbd(const XmlFile& file, const pugi::xml_node& cam, PinholeCamera* out
   const pugi::xml_node rgbd = cam.child("additional_information").child("rgbd");
   if (!rgbd) {
     out->depth_scale = 1000.0;
-    kLog.info(file.path + ": no <rgbd> element: assuming a depth scale of 1000 units per metre");
+    // A warning, not info: the default log level hides info, and a TUM sequence (5000 units
+    // per metre) read at 1000 has every depth 5 x too large, with nothing else to show it.
+    kLog.warn(file.path +
+              ": no <rgbd> element: assuming a depth scale of 1000 units per metre (RealSense); "
+              "TUM RGB-D and ICL-NUIM need 5000: add <additional_information><rgbd><depth_scale>5000</depth_scale></rgbd>"
+              "</additional_information> to <camera> (see calib/tum_freiburg1.xml)");
     return;
   }
   out->depth_scale = number(file, rgbd, "depth_scale", true, 0);

@@ -1,10 +1,13 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <utility>
+#include <vector>
 #include <visp3/core/vpXmlParserCamera.h>
 
 #include "camera/camera_file.h"
 #include "core/error.h"
+#include "core/log.h"
 #include "support/test_support.h"
 
 using namespace plslam;
@@ -131,9 +134,21 @@ TEST(CameraFile, NamesWithMarkupCharactersRoundTripAndViSPReadsThem) {
   EXPECT_DOUBLE_EQ(vp.get_px(), cam.fx);
 }
 
-TEST(CameraFile, ViSPFileWithoutRgbdAssumesMillimetres) {
+TEST(CameraFile, ViSPFileWithoutRgbdAssumesMillimetresAndWarnsSo) {
   const std::string content = replaced(kGood, "<additional_information><rgbd><depth_scale>1000</depth_scale></rgbd></additional_information>", "");
-  EXPECT_DOUBLE_EQ(parseCameraFile(content, "visp.xml").depth_scale, 1000.0);
+  std::vector<std::pair<LogLevel, std::string>> logged;
+  setLogSink([&](LogLevel level, const std::string&, const std::string& m) { logged.emplace_back(level, m); });
+  const double scale = parseCameraFile(content, "visp.xml").depth_scale;
+  const double with_rgbd = parseCameraFile(kGood, "plslam.xml").depth_scale;
+  setLogSink(nullptr);
+  EXPECT_DOUBLE_EQ(scale, 1000.0);
+  EXPECT_DOUBLE_EQ(with_rgbd, 1000.0);
+  // One warning (shown at the default level), naming the file and the TUM value; none for the
+  // file that says its scale.
+  ASSERT_EQ(logged.size(), 1u);
+  EXPECT_EQ(logged[0].first, LogLevel::kWarn);
+  EXPECT_NE(logged[0].second.find("visp.xml"), std::string::npos) << logged[0].second;
+  EXPECT_NE(logged[0].second.find("5000"), std::string::npos) << logged[0].second;
 }
 
 TEST(CameraFile, MissingFileIsRefusedNamingIt) {
