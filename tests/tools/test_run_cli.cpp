@@ -68,6 +68,17 @@ TEST(RunCli, RunAndExportShareTheMapFrame) {
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("from the map file"), std::string::npos) << r.output;
   EXPECT_EQ(test::readFile(scratch + "/exp/map_frame.yaml"), frame);
+  // export --config: a misspelt dense key is refused, naming it and the file; other sections
+  // (a run's whole configuration) are not export's business.
+  const std::string cfg = scratch + "/export.yaml";
+  std::ofstream(cfg) << "tracker:\n  min_inliers: 12\ndense:\n  fused_voxl_m: 0.02\n";
+  const auto bad = test::runPlslam("export --map " + scratch + "/out/map.plmap --out " + scratch + "/exp2 --octomap --quiet --config " + cfg);
+  EXPECT_EQ(bad.status, 2) << bad.output;
+  EXPECT_NE(bad.output.find("dense.fused_voxl_m"), std::string::npos) << bad.output;
+  EXPECT_NE(bad.output.find(cfg), std::string::npos) << bad.output;
+  std::ofstream(cfg) << "tracker:\n  min_inliers: 12\ndense:\n  fused_voxel_m: 0.02\n";
+  const auto good = test::runPlslam("export --map " + scratch + "/out/map.plmap --out " + scratch + "/exp2 --octomap --quiet --config " + cfg);
+  EXPECT_EQ(good.status, 0) << good.output;
   ASSERT_EQ(test::runPlslam(runArgs(data, scratch + "/sparse") + " --sequential --quiet --no-dense").status, 0);
   EXPECT_NE(test::readFile(scratch + "/sparse/map_frame.yaml").find("floor_source: sparse"), std::string::npos);
 }

@@ -14,6 +14,7 @@
 namespace plslam::cli {
 
 namespace {
+const Logger kLog("export");
 
 int runExport(int argc, char** argv) {
   Args args("export", "Dense maps of a saved map: fused cloud (PCD, PLY), OctoMaps (.bt, .ot) and a 2D occupancy grid.");
@@ -47,14 +48,23 @@ int runExport(int argc, char** argv) {
   SystemOptions options;
   OptionTable table;
   bindOptions(&table, &options);
-  const auto applyDense = [&](const std::map<std::string, std::string>& values, const std::string& source) {
-    for (const auto& [key, value] : values)
-      if (key.rfind("dense.", 0) == 0 && table.has(key)) table.set(key, value, source);
+  // Other sections are the run's business and are skipped. An unknown dense.* key in the
+  // user's --config is refused (a misspelt key would otherwise do nothing, silently); in the
+  // map's own configuration it is a key of the version that wrote the map, and is skipped
+  // with a warning.
+  const auto applyDense = [&](const std::map<std::string, std::string>& values, const std::string& source,
+                              bool refuse_unknown) {
+    for (const auto& [key, value] : values) {
+      if (key.rfind("dense.", 0) != 0) continue;
+      if (table.has(key) || refuse_unknown) table.set(key, value, source);
+      else kLog.warn(source + ": option '" + key + "' is not known to this version; skipped");
+    }
   };
-  if (!loaded.config_yaml.empty()) applyDense(parseYamlSubset(loaded.config_yaml, args.str("map")), args.str("map"));
+  if (!loaded.config_yaml.empty())
+    applyDense(parseYamlSubset(loaded.config_yaml, args.str("map")), args.str("map"), false);
   if (args.has("config")) {
     const std::string path = args.str("config");
-    applyDense(parseYamlSubset(readTextFile(path), path), path);
+    applyDense(parseYamlSubset(readTextFile(path), path), path, true);
   }
   DenseOptions& o = options.dense;
   if (args.has("voxel")) o.fused_voxel_m = args.number("voxel");
