@@ -187,9 +187,12 @@ LoopCloser::LoopCloser(Map* map, PinholeCamera camera, LoopOptions options,
 }
 
 void LoopCloser::record(const LoopCandidate& c) {
-  ++stats_.candidates;
-  if (c.status == LoopStatus::kAccepted) ++stats_.accepted;
-  else ++stats_.refused[static_cast<int>(c.status)];
+  {
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    ++stats_.candidates;
+    if (c.status == LoopStatus::kAccepted) ++stats_.accepted;
+    else ++stats_.refused[static_cast<int>(c.status)];
+  }
   log_.push_back(c);
   kLog.debug(str("keyframe ", c.query, " candidate ", c.candidate, ": ", toString(c.status), " (score ", c.score,
                  ", normalised ", c.normalised, "; ", c.reason, ")"));
@@ -212,7 +215,10 @@ void LoopCloser::index(Id id, const KeyframeBow& bow) {
 }
 
 std::optional<LoopCorrection> LoopCloser::processKeyframe(Id id) {
-  ++stats_.queries;
+  {
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    ++stats_.queries;
+  }
   ++keyframes_since_loop_;
   LoopQuery query;
   std::vector<LoopCandidate> candidates;
@@ -483,8 +489,11 @@ std::optional<LoopCorrection> LoopCloser::correct(const LoopCandidate& c,
   }
   if (options_.global_ba) globalBundleAdjustment(&out);
   out.ms = msSince(t0);
-  stats_.correction_ms.push_back(out.ms);
-  stats_.correction_hold_ms.push_back(out.hold_ms);
+  {
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    stats_.correction_ms.push_back(out.ms);
+    stats_.correction_hold_ms.push_back(out.hold_ms);
+  }
   kLog.info(str("loop closed: keyframe ", c.query, " with ", c.candidate, " (", c.inliers, " inliers, ",
                 graph.correction.translation().norm(), " m correction), ", graph.ids.size(), " keyframes, ",
                 graph.problem.edges.size(), " edges, ", fused, " points fused, ", out.ms, " ms (map held ", out.hold_ms,

@@ -189,7 +189,11 @@ class LoopCloser {
     hook_ = std::move(hook);
   }
 
-  const LoopStats& stats() const { return stats_; }
+  /// A copy: safe from any thread while the loop thread runs.
+  LoopStats stats() const {
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    return stats_;
+  }
   const std::vector<LoopCandidate>& log() const { return log_; }
   const LoopOptions& options() const { return options_; }
   const VocabularySet& vocabulary() const { return *vocabulary_; }
@@ -251,6 +255,7 @@ class LoopCloser {
   int keyframes_since_loop_ = 1 << 20;
   std::mutex* guard_ = nullptr;
   std::function<void(const LoopCorrection&)> hook_;
+  mutable std::mutex stats_mutex_;  // guards stats_ (read by System::stats() mid-run)
   LoopStats stats_;
   std::vector<LoopCandidate> log_;
 };

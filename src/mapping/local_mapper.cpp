@@ -226,12 +226,16 @@ void LocalMapper::createLines(Id keyframe, const cv::Mat& depth_m) {
     built_end += backprojectEndpoints(segments[i].p_raw, segments[i].q_raw, depth_m, camera_, options_.line_fit).has_value();
     if (fitted && line_ids[i] == kNoId) fresh.emplace_back(static_cast<int>(i), *fitted);
   }
-  stats_.rate_fitting.add(built_fit, static_cast<int>(segments.size()));
-  stats_.rate_endpoints.add(built_end, static_cast<int>(segments.size()));
+  {
+    std::lock_guard<std::mutex> stats_lock(stats_mutex_);
+    stats_.rate_fitting.add(built_fit, static_cast<int>(segments.size()));
+    stats_.rate_endpoints.add(built_end, static_cast<int>(segments.size()));
+  }
 
   std::lock_guard<std::mutex> lock(map_->mutex());
   KeyFrame* kf = map_->keyframe(keyframe);
   if (!kf) return;
+  int created = 0;
   for (const auto& [index, seg] : fresh) {
     MapLine l;
     l.P_w = kf->T_w_c * seg.P_c;  // the pose now: a loop correction may have moved it meanwhile
@@ -240,8 +244,10 @@ void LocalMapper::createLines(Id keyframe, const cv::Mat& depth_m) {
     l.first_keyframe = keyframe;
     const Id id = map_->addLine(std::move(l));
     map_->addLineObservation(keyframe, index, id);
-    ++stats_.lines_created;
+    ++created;
   }
+  std::lock_guard<std::mutex> stats_lock(stats_mutex_);
+  stats_.lines_created += created;
 }
 
 void LocalMapper::localBundleAdjustment(Id keyframe) {
@@ -255,8 +261,11 @@ void LocalMapper::localBundleAdjustment(Id keyframe) {
   }
   if (window.problem.point_obs.empty()) return;
   const BundleResult r = adjuster_.adjust(camera_, window.problem);
-  ++stats_.ba_runs;
-  stats_.ba_ms.push_back(r.time_ms);
+  {
+    std::lock_guard<std::mutex> stats_lock(stats_mutex_);
+    ++stats_.ba_runs;
+    stats_.ba_ms.push_back(r.time_ms);
+  }
   if (!r.ok()) {
     kLog.debug(str("local BA at keyframe ", keyframe, ": ", toString(r.status)));
     return;
@@ -264,10 +273,12 @@ void LocalMapper::localBundleAdjustment(Id keyframe) {
   std::lock_guard<std::mutex> lock(map_->mutex());
   // A loop correction landed while this BA ran (on the loop thread): its absolute result
   // would undo the correction; it is dropped, the next keyframe's BA works on the moved map.
-  if (map_->corrections() == corrections)
+  if (map_->corrections() == corrections) {
     writeBack(map_, window, r);
-  else
+  } else {
+    std::lock_guard<std::mutex> stats_lock(stats_mutex_);
     ++stats_.ba_dropped;
+  }
   dropOutlierObservations(map_, window, r);
 }
 
@@ -277,6 +288,7 @@ void LocalMapper::cull(Id keyframe) {
   const std::vector<Id> bad_lines = landmarksToCull(map_->lines(), keyframe, options_);
   for (Id id : bad_points) map_->erasePoint(id);
   for (Id id : bad_lines) map_->eraseLine(id);
+  std::lock_guard<std::mutex> stats_lock(stats_mutex_);
   stats_.points_culled += static_cast<int>(bad_points.size());
   stats_.lines_culled += static_cast<int>(bad_lines.size());
 }

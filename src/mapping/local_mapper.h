@@ -9,6 +9,7 @@
 // write results back, never while Ceres runs.
 #pragma once
 
+#include <mutex>
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -59,7 +60,11 @@ class LocalMapper {
   LocalMapper(Map* map, PinholeCamera camera, LocalMapperOptions options);
   /// `depth_m` is the keyframe's depth image (metres, NaN = none), needed for line fitting.
   void processKeyframe(Id keyframe, const cv::Mat& depth_m);
-  const MapperStats& stats() const { return stats_; }
+  /// A copy: safe from any thread while the mapping thread runs.
+  MapperStats stats() const {
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    return stats_;
+  }
 
  private:
   void createLines(Id keyframe, const cv::Mat& depth_m);
@@ -70,6 +75,7 @@ class LocalMapper {
   PinholeCamera camera_;
   LocalMapperOptions options_;
   BundleAdjuster adjuster_;
+  mutable std::mutex stats_mutex_;  // guards stats_ (read by System::stats() mid-run)
   MapperStats stats_;
 };
 

@@ -334,6 +334,11 @@ void addRecoveries(const std::vector<FrameRecord>& records, RunStats* s) {
 }
 }  // namespace
 
+int System::keyframeCount() const {
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  return static_cast<int>(map_.keyframes().size());
+}
+
 RunStats System::stats() const {
   RunStats s;
   s.frames = static_cast<int>(records_.size());
@@ -360,7 +365,7 @@ RunStats System::stats() const {
     s.map_points = static_cast<int>(map_.points().size());
     s.map_lines = static_cast<int>(map_.lines().size());
   }
-  const MapperStats& m = pipeline_->mapper.stats();
+  const MapperStats m = pipeline_->mapper.stats();
   s.line_rate_fitting = m.rate_fitting.average();
   s.line_rate_endpoints = m.rate_endpoints.average();
   s.line_rate_keyframes = m.rate_fitting.frames();

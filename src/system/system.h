@@ -12,8 +12,9 @@
 // and holds tracking only while it is applied), and sequential (the same stages, run in a
 // fixed order on the caller's thread: deterministic, for tests and reproducible figures).
 //
-// Thread safety: start/feed/finish from one thread; the accessors after finish(). A worker
-// thread's exception stops the pipeline and is rethrown by feed() or finish().
+// Thread safety: start/feed/finish from one thread; the accessors after finish(), except where
+// one says otherwise (stats(), keyframeCount()). A worker thread's exception stops the pipeline
+// and is rethrown by feed() or finish().
 #pragma once
 
 #include <array>
@@ -147,7 +148,12 @@ class System {
   Trajectory trajectory() const;
   /// Keyframe poses, in id order.
   Trajectory keyframeTrajectory() const;
+  /// Also between feed() calls of a running pipeline, from feed()'s thread: the mapping and
+  /// loop threads' figures are copied under their locks, the map's sizes under its mutex.
   RunStats stats() const;
+  /// Keyframes in the map now (under the map's mutex): from any thread, also mid-run.
+  int keyframeCount() const;
+  /// Unsynchronised: read it after finish(), or hold map().mutex() while the pipeline runs.
   const Map& map() const { return map_; }
   /// The loop closer (its candidate log), null with use_loop off.
   const LoopCloser* loopCloser() const;

@@ -83,7 +83,7 @@ FeedResult feedFrames(System* slam, FrameSource* source, const std::function<voi
     p.done = result.fed;
     p.total = source->size();
     p.tracked = result.tracked;
-    p.keyframes = slam->map().keyframes().size();
+    p.keyframes = slam->keyframeCount();
     p.seconds = std::chrono::duration<double>(now - t0).count();
     progress(p);
   };
