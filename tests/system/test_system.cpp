@@ -146,7 +146,10 @@ TEST(SystemSynthetic, ThreadedModeTracksAndFinishes) {
   threaded.sequential = false;
   const RunResult r = runOn(dir, camera, threaded);
   EXPECT_EQ(r.stats.tracked, r.stats.frames);
-  EXPECT_LT(r.ate, 0.01);
+  // Threaded runs measured 0.0026-0.0030 m (5 quiet, 3 with both cores loaded by `yes`);
+  // sequential 0.0029 m. The bound leaves room for the mapping thread's timing, no more.
+  std::printf("threaded synthetic static: ATE RMSE %.4f m\n", r.ate);
+  EXPECT_LT(r.ate, 0.004);
   EXPECT_GT(r.stats.keyframes, 2);
 }
 
@@ -273,12 +276,13 @@ void expectTumRegression(const std::string& sequence, const std::string& calib, 
 
 TEST(TumRegression, Fr1XyzAteAndTracking) {
   PLSLAM_REQUIRE_SHARED("data/tum/fr1_xyz_0-199");
-  expectTumRegression("fr1_xyz_0-199", "tum_freiburg1.xml", 0.012, true);
+  // Bounds about 10 % above the measured figure (docs/RESULTS.md, accuracy table).
+  expectTumRegression("fr1_xyz_0-199", "tum_freiburg1.xml", 0.0115, true);
 }
 
 TEST(TumRegression, Fr3SittingStaticAte) {
   PLSLAM_REQUIRE_SHARED("data/tum/fr3_sitting_static_150");
-  expectTumRegression("fr3_sitting_static_150", "tum_freiburg3.xml", 0.015, false);
+  expectTumRegression("fr3_sitting_static_150", "tum_freiburg3.xml", 0.011, false);
 }
 
 TEST(TumRegression, Fr3SittingStaticWithYoloMasksAte) {
@@ -287,9 +291,8 @@ TEST(TumRegression, Fr3SittingStaticWithYoloMasksAte) {
   SystemOptions o = sequential();
   o.segmenter.kind = SegmenterKind::kYolo;
   o.segmenter.yolo.model_path = test::sharedDir() + "/models/yolov8n-seg-320.onnx";
-  // Issue 4's figure (published: ORB-SLAM2 0.0087, DS-SLAM 0.0065 on the whole sequence).
-  // Measured 0.0065 m (0.0084 m with the poses as tracked, system.refine_frames off).
-  expectTumRegression("fr3_sitting_static_150", "tum_freiburg3.xml", 0.008, true, o);
+  // Published on the whole sequence: ORB-SLAM2 0.0087, DS-SLAM 0.0065. Figures in docs/RESULTS.md.
+  expectTumRegression("fr3_sitting_static_150", "tum_freiburg3.xml", 0.0073, true, o);
 }
 
 TEST(SystemThreads, AMappingThreadFailureStopsThePipelineAndIsRethrownNamingTheThread) {
