@@ -116,12 +116,10 @@ struct TrackerOptions {
   /// Throws ConfigError naming the first option out of its range (the tracker checks on construction).
   void validate() const;
 
-  /// Depth trusted like ORB-SLAM's virtual stereo pixel (sigma_z ~ z^2 / 40): a tighter
-  /// sigma lets depth noise at corners and the colour/depth time offset drag the pose
-  /// (docs/RESULTS.md, "Design choices measured earlier").
+  /// Depth weighted as in every SLAM solver (kSolverDepthSigmaCoeff).
   static PoseOptimizerOptions trackingPoseOptions() {
     PoseOptimizerOptions o;
-    o.model.depth_sigma_coeff = 0.025;
+    o.model.depth_sigma_coeff = kSolverDepthSigmaCoeff;
     return o;
   }
 };

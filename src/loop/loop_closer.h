@@ -101,7 +101,7 @@ struct LoopOptions {
 
   static BundleAdjusterOptions globalBundleOptions() {
     BundleAdjusterOptions o;
-    o.model.depth_sigma_coeff = 0.025;  // as tracking and local mapping
+    o.model.depth_sigma_coeff = kSolverDepthSigmaCoeff;  // as tracking and local mapping
     o.max_iterations = 10;
     o.refine_iterations = 5;
     o.max_time_s = 3.0;

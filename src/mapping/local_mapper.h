@@ -36,10 +36,10 @@ struct LocalMapperOptions {
   /// checks on construction).
   void validate() const;
 
-  /// The same depth weighting as tracking (see TrackerOptions::trackingPoseOptions).
+  /// Depth weighted as in every SLAM solver (kSolverDepthSigmaCoeff).
   static BundleAdjusterOptions mappingBundleOptions() {
     BundleAdjusterOptions o;
-    o.model.depth_sigma_coeff = 0.025;
+    o.model.depth_sigma_coeff = kSolverDepthSigmaCoeff;
     return o;
   }
 };

@@ -12,6 +12,12 @@ namespace plslam {
 
 class OptionTable;
 
+/// The depth noise coefficient the SLAM solvers (tracking, local and global BA) use: depth
+/// trusted like ORB-SLAM's virtual stereo pixel (sigma_z ~ z^2 / 40). A tighter sigma lets
+/// depth noise at corners and the colour/depth time offset drag the pose (docs/RESULTS.md,
+/// "Design choices measured earlier"). MeasurementModel's own default is the sensor's noise.
+constexpr double kSolverDepthSigmaCoeff = 0.025;
+
 struct MeasurementModel {
   double pixel_sigma = 1.0;          ///< keypoint / segment sigma at octave 0, pixels
   double scale_factor = 1.2;         ///< pyramid scale between octaves: sigma = pixel_sigma * scale_factor^octave
