@@ -423,19 +423,15 @@ std::vector<Id> Tracker::localKeyframes() {
 }
 
 Id Tracker::keyframeSharingMost(const Matches& m, Id fallback) const {
-  // Runs on every tracked frame, and a point's observations grow with every lap of a room: a
-  // fixed number of matched points, spread over the frame's keypoints, vote (the place is
-  // what most of them agree on, not an exact count), so the cost does not grow with the map.
-  constexpr size_t kVoters = 100;
-  const size_t stride = std::max<size_t>(1, static_cast<size_t>(matchedCount(m.point_ids)) / kVoters);
+  // Every matched point votes. Letting only 100 of them vote (997ee04) cut this stage from
+  // 0.44-0.47 to 0.13-0.14 ms a frame at the end of an 11-lap run, but the run made 11-13 %
+  // more keyframes, took more memory, and its tracking time grew along the run instead of
+  // staying flat (docs/RESULTS.md, "Long run after the place-keyframe vote").
   std::lock_guard<std::mutex> lock(map_->mutex());
   std::unordered_map<Id, int> shared;
-  size_t seen = 0;
-  for (Id id : m.point_ids) {
-    if (id == kNoId || seen++ % stride != 0) continue;
-    if (const MapPoint* p = map_->point(id))
+  for (Id id : m.point_ids)
+    if (const MapPoint* p = id == kNoId ? nullptr : map_->point(id))
       for (const auto& [kf, idx] : p->observations) ++shared[kf];
-  }
   // Ties go to the newer keyframe: while the camera explores, that is the one it made last.
   Id best_kf = fallback;
   int best = 0;
