@@ -36,4 +36,11 @@ std::optional<RigidFit> fitRigid(const std::vector<Eigen::Vector3d>& src, const 
   return fit;
 }
 
+std::optional<SE3> fitUniqueRigid(const std::vector<Eigen::Vector3d>& src, const std::vector<Eigen::Vector3d>& dst,
+                                  const std::vector<double>& weights) {
+  const std::optional<RigidFit> fit = fitRigid(src, dst, weights);
+  if (!fit || !fit->unique()) return std::nullopt;
+  return fit->T;
+}
+
 }  // namespace plslam

@@ -23,4 +23,9 @@ struct RigidFit {
 std::optional<RigidFit> fitRigid(const std::vector<Eigen::Vector3d>& src, const std::vector<Eigen::Vector3d>& dst,
                                  const std::vector<double>& weights = {});
 
+/// fitRigid's T when the pairs fix it (rank 2 or 3); nullopt otherwise (what a pose estimate
+/// from point pairs needs: collinear points leave a free rotation).
+std::optional<SE3> fitUniqueRigid(const std::vector<Eigen::Vector3d>& src, const std::vector<Eigen::Vector3d>& dst,
+                                  const std::vector<double>& weights = {});
+
 }  // namespace plslam

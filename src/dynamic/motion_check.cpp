@@ -12,14 +12,6 @@ namespace plslam {
 
 namespace {
 
-/// The rigid motion the pairs fix, or nullopt (fewer than three, or collinear points).
-std::optional<SE3> uniqueRigid(const std::vector<Eigen::Vector3d>& src, const std::vector<Eigen::Vector3d>& dst,
-                               const std::vector<double>& weights = {}) {
-  const std::optional<RigidFit> fit = fitRigid(src, dst, weights);
-  if (!fit || !fit->unique()) return std::nullopt;
-  return fit->T;
-}
-
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
@@ -139,7 +131,7 @@ std::optional<SE3> refitOnInliers(const DepthSet& s, const SE3& T, double thr) {
     b.push_back(s.c[k]);
     w.push_back(1.0 / (s.cov_p[k] + s.cov_c[k]).trace());
   }
-  return uniqueRigid(a, b, w);
+  return fitUniqueRigid(a, b, w);
 }
 
 /// Whether T moves the scene's points (RMS) within the tolerance of where the prior moves them
@@ -264,7 +256,7 @@ class MotionSearch {
       if (check == SampleCheck::kDegenerate) continue;
       ++good_samples;  // a proper triangle, rigid or not
       if (check == SampleCheck::kNotRigid) continue;
-      const auto T = uniqueRigid({s_.p[k[0]], s_.p[k[1]], s_.p[k[2]]}, {s_.c[k[0]], s_.c[k[1]], s_.c[k[2]]});
+      const auto T = fitUniqueRigid({s_.p[k[0]], s_.p[k[1]], s_.p[k[2]]}, {s_.c[k[0]], s_.c[k[1]], s_.c[k[2]]});
       if (!T || (prior_ && !nearPrior(s_, *T, *prior_, o_))) continue;  // only hypotheses near the prior count
       ++iter;
       consider(*T, false);

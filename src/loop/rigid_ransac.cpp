@@ -17,9 +17,7 @@ std::optional<SE3> fitSelected(const std::vector<Eigen::Vector3d>& p_a, const st
   std::vector<Eigen::Vector3d> a, b;
   for (size_t i = 0; i < p_a.size(); ++i)
     if (select.empty() || select[i]) a.push_back(p_a[i]), b.push_back(p_b[i]);
-  const std::optional<RigidFit> fit = fitRigid(b, a);
-  if (!fit || !fit->unique()) return std::nullopt;
-  return fit->T;
+  return fitUniqueRigid(b, a);
 }
 
 double gate(const Eigen::Vector3d& a, const RigidRansacOptions& o) { return o.threshold_m + o.depth_coeff * a.z() * a.z(); }
