@@ -9,9 +9,11 @@
 
 namespace plslam {
 
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindCalibrationOptions (system/system_options.cpp). `plslam run --print-config` lists them.
 struct DepthCorrection {
-  double scale = 1.0;     ///< measured = scale * true + offset (1: none)
-  double offset_m = 0.0;  ///< metres (0: none)
+  double scale = 1.0;
+  double offset_m = 0.0;
 
   bool identity() const { return scale == 1.0 && offset_m == 0.0; }
 };

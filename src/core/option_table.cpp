@@ -50,6 +50,9 @@ std::string yamlQuoted(const std::string& text) {
 
 void OptionTable::add(Entry e) {
   if (index_.count(e.key)) throw std::logic_error("option bound twice: " + e.key);
+  // The doc string is the option's only documentation (the struct field has none): required.
+  if (e.doc.find_first_not_of(" \t") == std::string::npos || e.doc.find('\n') != std::string::npos)
+    throw std::logic_error("option without a one-line doc string: " + e.key);
   index_[e.key] = entries_.size();
   entries_.push_back(std::move(e));
 }

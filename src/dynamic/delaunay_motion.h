@@ -39,17 +39,21 @@ class OptionTable;
 
 /// When a graph edge joins one surface: its two depths differ by at most
 /// max(min_step_m, ratio * the nearer depth). Edges from a person to the wall behind do not.
+/// Configuration keys: each field's key, doc string and range are where it is bound, in bindSurface
+/// (dynamic/option_keys.cpp). `plslam run --print-config` lists them.
 struct SameSurfaceOptions {
-  double min_step_m = 0.20;  ///< depth step always allowed (metres)
-  double ratio = 0.05;       ///< depth step allowed as a fraction of the nearer depth
+  double min_step_m = 0.20;
+  double ratio = 0.05;
   bool joins(double z_a, double z_b) const { return std::abs(z_a - z_b) <= std::max(min_step_m, ratio * std::min(z_a, z_b)); }
 };
 
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindDelaunayMotionOptions (dynamic/option_keys.cpp). `plslam run --print-config` lists them.
 struct DelaunayMotionOptions {
   MotionCheckOptions motion;       ///< noise model of the edge test; the geometric check when none is given
-  double chi2_length = 10.83;      ///< edge broken when (length change)^2 / variance exceeds this (1 dof, 99.9%)
-  double static_group_fraction = 0.3;  ///< without a camera motion, rigid groups with this fraction of the features, and the largest, are static
-  int min_region_features = 3;     ///< moving regions smaller than this are not reported (their features stay flagged)
+  double chi2_length = 10.83;
+  double static_group_fraction = 0.3;
+  int min_region_features = 3;
   SameSurfaceOptions region_surface;  ///< regions grow only over edges that join one surface
 };
 

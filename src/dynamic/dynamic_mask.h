@@ -31,18 +31,20 @@ namespace plslam {
 
 class OptionTable;
 
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindDynamicMaskOptions (dynamic/option_keys.cpp). `plslam run --print-config` lists them.
 struct DynamicMaskOptions {
-  double moving_fraction = 0.3;        ///< an instance moves when at least this fraction of its checked features move
-  int min_moving_features = 2;         ///< ... and at least this many of them
-  int min_checked_features = 3;        ///< fewer checked features on an instance: its class prior decides
-  bool static_classes_can_move = true; ///< geometry may declare an instance of a static class (a pushed chair) dynamic
-  bool use_delaunay_evidence = true;   ///< features without a geometric check take the Delaunay graph's verdict
-  double region_inside_fraction = 0.5; ///< regions with at least this fraction of features on instances are left to the instances
-  int region_min_checked = 3;          ///< a region is contradicted only when this many of its features have a geometric check
-  double region_min_moving_fraction = 0.5;  ///< ... and fewer than this fraction of them move
-  int dilate_px = 5;                   ///< dynamic areas grow by this many pixels (mask borders, depth edges)
-  int moving_area_dilate_px = 0;       ///< the spread moving area (DynamicEvidence::moving_triangles) grows by this many pixels
-  int feature_radius_px = 0;           ///< moving features outside dynamic areas also mask a disc of this radius (0: flag only)
+  double moving_fraction = 0.3;
+  int min_moving_features = 2;
+  int min_checked_features = 3;
+  bool static_classes_can_move = true;
+  bool use_delaunay_evidence = true;
+  double region_inside_fraction = 0.5;
+  int region_min_checked = 3;
+  double region_min_moving_fraction = 0.5;
+  int dilate_px = 5;
+  int moving_area_dilate_px = 0;
+  int feature_radius_px = 0;
 };
 
 /// Binds `prefix` + "moving_fraction", "dilate_px", ...

@@ -32,11 +32,13 @@ namespace plslam {
 
 class OptionTable;
 
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindLabelSpreadOptions (dynamic/option_keys.cpp). `plslam run --print-config` lists them.
 struct LabelSpreadOptions {
   SameSurfaceOptions surface;      ///< which edges join one surface
-  double max_edge_px = 60.0;       ///< longer edges join nothing
-  int min_still_neighbours = 1;    ///< a moving feature with no moving neighbour and this many still ones is a mismatch
-  int passes = 10;                 ///< rounds of spreading into unjudged features (0: none)
+  double max_edge_px = 60.0;
+  int min_still_neighbours = 1;
+  int passes = 10;
 };
 
 /// Binds `prefix` + "passes", "max_edge_px", "min_still_neighbours", "min_step_m", "step_ratio".

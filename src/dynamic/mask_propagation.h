@@ -30,18 +30,19 @@ namespace plslam {
 
 class OptionTable;
 
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindMaskPropagationOptions (dynamic/option_keys.cpp). `plslam run --print-config` lists them.
 struct MaskPropagationOptions {
-  int max_corners = 30;             ///< corners tracked per instance (their median moves it; more cost more)
-  double corner_quality = 0.01;     ///< Shi-Tomasi quality, relative to the instance's best corner
-  int corner_distance_px = 5;       ///< minimum distance between an instance's corners
-  int erode_px = 5;                 ///< corners at least this far inside the instance's outline
-  int window_px = 15;               ///< Lucas-Kanade window side
-  int pyramid_levels = 3;           ///< pyramid levels above the image (a near walker moves tens of pixels a frame)
-  int min_corners = 3;              ///< an instance with fewer tracked corners is not moved
-  /// A carried outline is uncertain in proportion to how far it was carried: features are
-  /// assigned to a carried instance only this fraction of that distance inside its outline ...
+  int max_corners = 30;
+  double corner_quality = 0.01;
+  int corner_distance_px = 5;
+  int erode_px = 5;
+  int window_px = 15;
+  int pyramid_levels = 3;
+  int min_corners = 3;
+  // A carried outline is uncertain in proportion to how far it was carried.
   double interior_margin_fraction = 0.25;
-  int max_interior_margin_px = 30;  ///< ... and at most this far inside
+  int max_interior_margin_px = 30;
 };
 
 /// Binds `prefix` + "max_corners", "window_px", ...

@@ -54,41 +54,45 @@ struct MotionCorrespondence {
 };
 
 /// Noise of a back-projected depth pixel (Kinect-like).
+/// Configuration keys: each field's key, doc string and range are where it is bound, in bindNoise
+/// (dynamic/option_keys.cpp). `plslam run --print-config` lists them.
 struct PointNoiseOptions {
-  double pixel_sigma = 1.0;          ///< keypoint position noise, pixels (1 sigma)
-  double depth_sigma_quadratic = 0.0025;  ///< depth noise sigma_z = quadratic * z^2 + constant (1/m)
-  double depth_sigma_constant = 0.002;    ///< metres; also absorbs depth quantisation and sampling
+  double pixel_sigma = 1.0;
+  double depth_sigma_quadratic = 0.0025;
+  double depth_sigma_constant = 0.002;
 };
 
 /// Covariance (camera frame, m^2) of the point back-projected from ideal pixel `uv` at depth z.
 Eigen::Matrix3d pointCovariance(const PinholeCamera& camera, const Eigen::Vector2d& uv, double z,
                                 const PointNoiseOptions& noise, double pixel_sigma_scale = 1.0);
 
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindMotionCheckOptions (dynamic/option_keys.cpp). `plslam run --print-config` lists them.
 struct MotionCheckOptions {
   PointNoiseOptions noise;            ///< sensor noise model the residuals are normalised by
-  double chi2_3d = 16.27;             ///< 3D residual test, chi2 with 3 dof (16.27: 99.9%)
-  double chi2_2d = 13.82;             ///< reprojection test, chi2 with 2 dof (13.82: 99.9%)
-  double chi2_1d = 10.83;             ///< epipolar distance test, chi2 with 1 dof (10.83: 99.9%)
-  int min_correspondences = 6;        ///< fewer correspondences in all: kTooFewCorrespondences
-  int min_with_depth = 6;             ///< fewer with depth in both frames: kTooFewWithDepth
-  int min_inliers = 6;                ///< fewer inliers of the best motion: kNoConsensus
-  double min_inlier_ratio = 0.2;      ///< inliers below this fraction of the depth correspondences: kNoConsensus
-  int max_iterations = 500;           ///< RANSAC hypotheses at most
-  int min_iterations = 50;            ///< RANSAC hypotheses at least (50: 99.9% for half outliers)
-  double confidence = 0.999;          ///< adaptive stop: probability of drawing one all-inlier sample
-  uint64_t seed = 42;                 ///< RANSAC random stream (deterministic results)
-  double min_sample_side_m = 0.02;    ///< minimal samples need all three sides at least this long
-  double min_sample_sine = 0.1;       ///< and a triangle this far from collinear (sine of its smallest angle)
-  double rank_quantile = 0.5;         ///< hypotheses are ranked by this quantile of their chi2 values (0.5: least median)
-  double prior_rank_quantile = 0.25;  ///< the quantile with a prior (it rules out the object's motion, so the background may be a minority)
-  bool adapt_noise_scale = true;      ///< scale the thresholds by how much cleaner/noisier the data are than the model (robust, from the rank quantile)
-  double min_noise_scale = 0.25;      ///< lower bound of that scale (exact synthetic depth would drive it to 0)
-  double max_noise_scale = 4.0;       ///< upper bound of that scale
-  int refine_iterations = 3;          ///< weighted refits on the inliers of each new best hypothesis (local optimisation)
-  double prior_max_displacement_m = 0.03;  ///< with a prior: hypotheses that move any depth point farther than this from where the prior puts it are discarded
-  bool prior_fallback = true;         ///< with a prior and no consensus near it, retry without the prior
-  double min_epipolar_baseline_m = 0.01;  ///< below this translation, no-depth features use rotation transfer
-  double min_scene_depth_m = 0.4;     ///< nearest depth assumed for the parallax allowance of rotation transfer
+  double chi2_3d = 16.27;
+  double chi2_2d = 13.82;
+  double chi2_1d = 10.83;
+  int min_correspondences = 6;
+  int min_with_depth = 6;
+  int min_inliers = 6;
+  double min_inlier_ratio = 0.2;
+  int max_iterations = 500;
+  int min_iterations = 50;
+  double confidence = 0.999;
+  uint64_t seed = 42;
+  double min_sample_side_m = 0.02;
+  double min_sample_sine = 0.1;
+  double rank_quantile = 0.5;
+  double prior_rank_quantile = 0.25;
+  bool adapt_noise_scale = true;
+  double min_noise_scale = 0.25;
+  double max_noise_scale = 4.0;
+  int refine_iterations = 3;
+  double prior_max_displacement_m = 0.03;
+  bool prior_fallback = true;
+  double min_epipolar_baseline_m = 0.01;
+  double min_scene_depth_m = 0.4;
 };
 
 /// Binds `prefix` + "chi2_3d", ... and the noise model ("pixel_sigma", ...).

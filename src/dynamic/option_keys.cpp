@@ -24,23 +24,23 @@ void bindSurface(OptionTable* t, const std::string& p, SameSurfaceOptions* o, co
 
 void bindMotionCheckOptions(OptionTable* t, const std::string& p, MotionCheckOptions* o) {
   bindNoise(t, p, &o->noise);
-  t->bind(p + "chi2_3d", &o->chi2_3d, "3D residual test, chi-square with 3 dof", above(0));
-  t->bind(p + "chi2_2d", &o->chi2_2d, "reprojection test, chi-square with 2 dof", above(0));
-  t->bind(p + "chi2_1d", &o->chi2_1d, "epipolar distance test, chi-square with 1 dof", above(0));
+  t->bind(p + "chi2_3d", &o->chi2_3d, "3D residual test, chi-square with 3 dof (16.27: 99.9 %)", above(0));
+  t->bind(p + "chi2_2d", &o->chi2_2d, "reprojection test, chi-square with 2 dof (13.82: 99.9 %)", above(0));
+  t->bind(p + "chi2_1d", &o->chi2_1d, "epipolar distance test, chi-square with 1 dof (10.83: 99.9 %)", above(0));
   t->bind(p + "min_correspondences", &o->min_correspondences, "fewer adjacent-frame matches: no check", atLeast(3));
   t->bind(p + "min_with_depth", &o->min_with_depth, "fewer matches with depth in both frames: no check", atLeast(3));
   t->bind(p + "min_inliers", &o->min_inliers, "fewer inliers of the best camera motion: no consensus", atLeast(3));
   t->bind(p + "min_inlier_ratio", &o->min_inlier_ratio, "... or inliers below this fraction of the matches with depth", within(0, 1));
   t->bind(p + "max_iterations", &o->max_iterations, "RANSAC hypotheses at most", atLeast(1));
-  t->bind(p + "min_iterations", &o->min_iterations, "RANSAC hypotheses at least", atLeast(1));
+  t->bind(p + "min_iterations", &o->min_iterations, "RANSAC hypotheses at least (50: 99.9 % for half outliers)", atLeast(1));
   t->bind(p + "confidence", &o->confidence, "adaptive stop: probability of one all-inlier sample", Range{0, 1, true});
   t->bind(p + "seed", &o->seed, "RANSAC random stream (deterministic results)");
   t->bind(p + "min_sample_side_m", &o->min_sample_side_m, "minimal samples need all three sides this long (m)", atLeast(0));
   t->bind(p + "min_sample_sine", &o->min_sample_sine, "... and a triangle this far from collinear (sine of its smallest angle)", within(0, 1));
-  t->bind(p + "rank_quantile", &o->rank_quantile, "hypotheses ranked by this quantile of their chi-square values", Range{0, 1, true});
-  t->bind(p + "prior_rank_quantile", &o->prior_rank_quantile, "the quantile with a motion prior", Range{0, 1, true});
+  t->bind(p + "rank_quantile", &o->rank_quantile, "hypotheses ranked by this quantile of their chi-square values (0.5: least median)", Range{0, 1, true});
+  t->bind(p + "prior_rank_quantile", &o->prior_rank_quantile, "the quantile with a motion prior (it rules out the object's motion, so the background may be a minority)", Range{0, 1, true});
   t->bind(p + "adapt_noise_scale", &o->adapt_noise_scale, "scale the thresholds by how clean the data are against the noise model");
-  t->bind(p + "min_noise_scale", &o->min_noise_scale, "lower bound of that scale", above(0));
+  t->bind(p + "min_noise_scale", &o->min_noise_scale, "lower bound of that scale (exact synthetic depth would drive it to 0)", above(0));
   t->bind(p + "max_noise_scale", &o->max_noise_scale, "upper bound of that scale", above(0));
   t->bind(p + "refine_iterations", &o->refine_iterations, "weighted refits on the inliers of each new best hypothesis", atLeast(0));
   t->bind(p + "prior_max_displacement_m", &o->prior_max_displacement_m,
@@ -54,7 +54,7 @@ void bindDelaunayMotionOptions(OptionTable* t, const std::string& p, DelaunayMot
   t->bind(p + "chi2_length", &o->chi2_length, "graph edge broken when its length change exceeds this chi-square (1 dof)", above(0));
   t->bind(p + "static_group_fraction", &o->static_group_fraction,
           "without a camera motion, rigid groups with this fraction of the features, and the largest, are static", within(0, 1));
-  t->bind(p + "min_region_features", &o->min_region_features, "moving graph regions smaller than this are not reported", atLeast(1));
+  t->bind(p + "min_region_features", &o->min_region_features, "moving graph regions smaller than this are not reported (their features stay flagged)", atLeast(1));
   bindSurface(t, p + "region_", &o->region_surface, "graph regions");
 }
 
@@ -76,18 +76,18 @@ void bindDynamicMaskOptions(OptionTable* t, const std::string& p, DynamicMaskOpt
           "graph regions with this fraction of their features on instances are left to the instances", within(0, 1));
   t->bind(p + "region_min_checked", &o->region_min_checked, "a region is contradicted only when this many of its features were checked", atLeast(0));
   t->bind(p + "region_min_moving_fraction", &o->region_min_moving_fraction, "... and fewer than this fraction of them move", within(0, 1));
-  t->bind(p + "dilate_px", &o->dilate_px, "dynamic areas grow by this many pixels", atLeast(0));
+  t->bind(p + "dilate_px", &o->dilate_px, "dynamic areas grow by this many pixels (mask borders, depth edges)", atLeast(0));
   t->bind(p + "moving_area_dilate_px", &o->moving_area_dilate_px, "the spread moving area grows by this many pixels", atLeast(0));
   t->bind(p + "feature_radius_px", &o->feature_radius_px, "moving features outside dynamic areas mask a disc this wide (px; 0: flag only)", atLeast(0));
 }
 
 void bindMaskPropagationOptions(OptionTable* t, const std::string& p, MaskPropagationOptions* o) {
-  t->bind(p + "max_corners", &o->max_corners, "corners tracked per instance to carry it", atLeast(1));
+  t->bind(p + "max_corners", &o->max_corners, "corners tracked per instance to carry it (their median moves it; more cost more)", atLeast(1));
   t->bind(p + "corner_quality", &o->corner_quality, "Shi-Tomasi quality, relative to the instance's best corner", Range{0, 1, true});
   t->bind(p + "corner_distance_px", &o->corner_distance_px, "minimum distance between an instance's corners (px)", atLeast(0));
   t->bind(p + "erode_px", &o->erode_px, "corners at least this far inside the instance's outline (px)", atLeast(0));
   t->bind(p + "window_px", &o->window_px, "Lucas-Kanade window side (px)", atLeast(3));
-  t->bind(p + "pyramid_levels", &o->pyramid_levels, "Lucas-Kanade pyramid levels above the image", atLeast(0));
+  t->bind(p + "pyramid_levels", &o->pyramid_levels, "Lucas-Kanade pyramid levels above the image (a near walker moves tens of pixels a frame)", atLeast(0));
   t->bind(p + "min_corners", &o->min_corners, "an instance with fewer tracked corners is not moved", atLeast(1));
   t->bind(p + "interior_margin_fraction", &o->interior_margin_fraction,
           "features join a carried instance only this fraction of the carried distance inside its outline", atLeast(0));

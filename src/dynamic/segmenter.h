@@ -54,29 +54,32 @@ struct InstanceClass {
 };
 
 /// Options of the YOLOv8-seg backend.
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindDynamicOptions (system/system_options.cpp), bindSegmenterOptions (dynamic/segmenter.cpp).
+/// `plslam run --print-config` lists them.
 struct YoloSegOptions {
-  std::string model_path;       ///< ONNX file of a YOLOv8-seg export (outputs [1,4+C+M,N] and [1,M,H,W])
-  float confidence = 0.35f;     ///< minimum class score of a detection, (0, 1)
-  float nms_iou = 0.5f;         ///< class-aware NMS: a box overlapping a better one of its class by more is dropped, (0, 1]
-  float mask_threshold = 0.5f;  ///< mask probability above which a pixel is the instance's, (0, 1)
-  int max_instances = 100;      ///< at most this many instances per image (the best scores), 1..65535
-  int input_size = 0;           ///< square input side for a model whose input size is symbolic; 0: read it from the model
+  std::string model_path;
+  float confidence = 0.35f;
+  float nms_iou = 0.5f;
+  float mask_threshold = 0.5f;
+  int max_instances = 100;
+  int input_size = 0;
   /// Threads of the forward pass. Only 0 (OpenCV's process-wide pool, cv::setNumThreads) is
   /// accepted: OpenCV 4.6's DNN has no per-network thread limit and this library does not
   /// change the process-wide setting. Other values are refused with ConfigError.
   int threads = 0;
 };
 
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindSegmenterOptions (dynamic/segmenter.cpp). `plslam run --print-config` lists them.
 struct SegmenterOptions {
-  SegmenterKind kind = SegmenterKind::kNone;  ///< which backend
-  std::string classes_file;                    ///< class names, one a line (empty: the built-in COCO names)
-  /// Potentially dynamic class names (unset: ClassList::defaultDynamicNames()); an unknown
-  /// name is a ConfigError.
+  SegmenterKind kind = SegmenterKind::kNone;
+  std::string classes_file;
+  // An unknown name is a ConfigError (unset: ClassList::defaultDynamicNames()).
   std::optional<std::vector<std::string>> dynamic_classes;
   YoloSegOptions yolo;                        ///< kYolo
   std::vector<InstanceClass> replay_labels;   ///< kReplay: the classes of the mask ids
-  /// kYolo: a model that is missing or unusable (IoError/DataError) gives the none backend
-  /// and a logged warning instead of the exception (the run goes on geometry-only).
+  // The backend falls back to none on IoError/DataError from the model.
   bool allow_missing_model = false;
 };
 

@@ -15,23 +15,24 @@
 
 namespace plslam {
 
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindFeatureOptions (frontend/feature_extraction.cpp). `plslam run --print-config` lists them.
 struct LineOptions {
-  /// Segment detector: "lsd" (OpenCV's LSD) or "fld" (opencv_contrib's FastLineDetector on
-  /// Canny edges, without its own merge: the merge below does that). Both give segments with
-  /// the brighter side on the left, which the LBD descriptor and the merge rely on.
+  // FLD runs without its own merge (merge_* below does that). Both detectors give segments
+  // with the brighter side on the left, which the LBD descriptor and the merge rely on.
   std::string detector = "lsd";
-  double detect_scale = 0.5;       ///< the detector runs on the image scaled by this, in (0, 1] (0.5: ~3x faster, coarser endpoints)
-  double lsd_quant = 2.0;          ///< LSD gradient quantisation bound; larger ignores weaker edges (and runs faster)
-  bool lsd_refine = false;         ///< LSD's own refinement (LSD_REFINE_STD); slower, the merge step does most of its job
-  int fld_min_length_px = 10;      ///< FLD drops segments shorter than this (pixels of the scaled image)
-  double fld_canny_low = 50;       ///< FLD's Canny hysteresis thresholds
+  double detect_scale = 0.5;
+  double lsd_quant = 2.0;
+  bool lsd_refine = false;
+  int fld_min_length_px = 10;
+  double fld_canny_low = 50;
   double fld_canny_high = 50;
-  double merge_angle_deg = 3.0;    ///< fragments whose directions differ by less than this...
-  double merge_distance_px = 2.0;  ///< ...whose endpoints lie this close to the other's line...
-  double merge_gap_px = 12.0;      ///< ...and that are at most this far apart along it are joined
-  double min_length_ratio = 0.04;  ///< segments shorter than this fraction of the image diagonal are dropped
-  int max_lines = 150;             ///< keep at most this many, the longest
-  double lbd_scale = 0.5;          ///< LBD runs on the image scaled by this, in (0, 1] (0.5: half the time, bands 14 px wide)
+  double merge_angle_deg = 3.0;
+  double merge_distance_px = 2.0;
+  double merge_gap_px = 12.0;
+  double min_length_ratio = 0.04;
+  int max_lines = 150;
+  double lbd_scale = 0.5;
 
   /// Throws ConfigError when a value is out of range.
   void validate() const;

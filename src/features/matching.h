@@ -31,10 +31,12 @@ struct DescriptorMatch {
   int distance = 0;  ///< Hamming distance, bits
 };
 
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindBruteForceOptions (features/matching.cpp). `plslam run --print-config` lists them.
 struct BruteForceOptions {
-  int max_distance = 64;  ///< Hamming distances above this are no match (of 256 bits)
-  float ratio = 0.8f;     ///< Lowe: best < ratio * second best (1 disables)
-  bool mutual = true;     ///< keep a pair only if each is the other's best
+  int max_distance = 64;
+  float ratio = 0.8f;
+  bool mutual = true;
 };
 
 /// Binds `prefix` + "max_distance", "ratio", "mutual".

@@ -16,13 +16,15 @@
 
 namespace plslam {
 
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindFeatureOptions (frontend/feature_extraction.cpp). `plslam run --print-config` lists them.
 struct OrbOptions {
-  int num_features = 1000;     ///< at most this many keypoints over all levels
-  float scale_factor = 1.2f;   ///< scale between two pyramid levels (> 1)
-  int num_levels = 8;          ///< pyramid levels (fewer when the image gets too small)
-  int fast_threshold = 20;     ///< FAST threshold (grey levels)
-  int min_fast_threshold = 7;  ///< threshold used in the cells where fast_threshold finds nothing
-  int cell_size = 32;          ///< side (level pixels) of the cells of that fallback
+  int num_features = 1000;
+  float scale_factor = 1.2f;
+  int num_levels = 8;
+  int fast_threshold = 20;
+  int min_fast_threshold = 7;
+  int cell_size = 32;
 
   /// Throws ConfigError when a value is out of range.
   void validate() const;

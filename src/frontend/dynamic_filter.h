@@ -39,29 +39,27 @@
 
 namespace plslam {
 
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindDynamicOptions (system/system_options.cpp). `plslam run --print-config` lists them.
 struct DynamicFilterOptions {
-  bool enabled = true;             ///< reject dynamic features at all
-  int segment_every = 3;           ///< segment every this many frames (1 = every frame)
-  int compare_gap = 3;             ///< check motion against the frame this many frames back (a slow walker
-                                   ///< moves too little between adjacent 30 Hz frames to be seen)
-  double match_radius_px = 40.0;   ///< search radius for the previous frame's keypoints
-  int match_max_distance = 60;     ///< ORB Hamming distance accepted between adjacent frames
-  float match_ratio = 0.7f;        ///< best < ratio * second best (0.9 let repeated textures and edges give consistent mismatches)
-  double line_masked_fraction = 0.3;  ///< lines with more than this fraction of samples on dynamic pixels are removed
+  bool enabled = true;
+  int segment_every = 3;
+  int compare_gap = 3;
+  double match_radius_px = 40.0;
+  int match_max_distance = 60;
+  float match_ratio = 0.7f;
+  double line_masked_fraction = 0.3;
   MotionCheckOptions motion;       ///< geometric check between adjacent frames
   DelaunayMotionOptions delaunay;  ///< Delaunay graph check
-  bool spread_labels = true;       ///< spread motion labels over the graph of all keypoints (label_spread.h)
-  /// ... also on frames that have instance masks. Off by default: the masks already give a moving
-  /// object's extent, and on fr3_sitting_static spreading grew moving areas from stray flags onto
-  /// the static background (docs/RESULTS.md, "Label spreading on frames with masks").
+  bool spread_labels = true;
+  // Off by default: the masks already give a moving object's extent, and on fr3_sitting_static
+  // spreading grew moving areas from stray flags onto the static background (docs/RESULTS.md,
+  // "Label spreading on frames with masks").
   bool spread_with_masks = false;
   LabelSpreadOptions spread;       ///< how
   DynamicMaskOptions mask;         ///< fusion into the dynamic mask
-  /// Masks are used exactly this many frames after the frame they were segmented on (0: as
-  /// soon as they are ready). For tests of stale masks; must be >= 0 (ConfigError).
+  // For tests of stale masks (key dynamic.replay_latency_frames).
   int latency_frames = 0;
-  /// Carry late masks (threaded mode, or latency_frames > 0) to the current frame by optical
-  /// flow per instance. Sequential mode without a latency never carries masks.
   bool propagate_masks = true;
   MaskPropagationOptions propagation;  ///< how
 

@@ -7,15 +7,15 @@
 namespace plslam {
 
 void bindFeatureOptions(OptionTable* t, FeatureOptions* o) {
-  t->bind("features.orb_features", &o->orb.num_features, "ORB keypoints per image");
+  t->bind("features.orb_features", &o->orb.num_features, "ORB keypoints per image, over all pyramid levels");
   t->bind("features.orb_scale_factor", &o->orb.scale_factor, "ORB pyramid scale between levels");
   t->bind("features.orb_levels", &o->orb.num_levels, "ORB pyramid levels");
   t->bind("features.orb_fast_threshold", &o->orb.fast_threshold, "FAST threshold");
-  t->bind("features.orb_min_fast_threshold", &o->orb.min_fast_threshold, "FAST threshold retried on weak images");
+  t->bind("features.orb_min_fast_threshold", &o->orb.min_fast_threshold, "FAST threshold retried in the grid cells where orb_fast_threshold finds nothing");
   t->bind("features.line_detector", &o->lines.detector, "segment detector: lsd or fld (FastLineDetector)");
-  t->bind("features.line_detect_scale", &o->lines.detect_scale, "the segment detector runs on the image resized by this");
+  t->bind("features.line_detect_scale", &o->lines.detect_scale, "the segment detector runs on the image resized by this (0.5: about 3 x faster, coarser endpoints)");
   t->bind("features.line_lsd_quant", &o->lines.lsd_quant, "LSD: gradient quantisation bound; larger ignores weaker edges and runs faster");
-  t->bind("features.line_lbd_scale", &o->lines.lbd_scale, "LBD runs on the image resized by this");
+  t->bind("features.line_lbd_scale", &o->lines.lbd_scale, "LBD runs on the image resized by this (0.5: half the time, bands 14 px wide)");
   t->bind("features.line_fld_min_length_px", &o->lines.fld_min_length_px, "FLD: shortest segment, pixels of the resized image");
   t->bind("features.line_fld_canny_low", &o->lines.fld_canny_low, "FLD: Canny's low hysteresis threshold");
   t->bind("features.line_fld_canny_high", &o->lines.fld_canny_high, "FLD: Canny's high hysteresis threshold");
@@ -28,7 +28,7 @@ void bindFeatureOptions(OptionTable* t, FeatureOptions* o) {
           "side of the grid cells (level pixels) where FAST is retried at the low threshold");
   t->bind("features.line_lsd_refine", &o->lines.lsd_refine, "LSD: its own refinement (slower; the merge does most of its job)");
   t->bind("features.min_depth_m", &o->min_depth_m, "depth readings below this count as none (m)");
-  t->bind("features.parallel", &o->parallel, "extract points and lines on two threads");
+  t->bind("features.parallel", &o->parallel, "extract points and lines on two threads (the result does not depend on it)");
 }
 
 FeatureExtraction::FeatureExtraction(const RgbdFrame& frame, const cv::Mat& mask, const PinholeCamera& camera,

@@ -15,12 +15,14 @@
 
 namespace plslam {
 
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindFeatureOptions (frontend/feature_extraction.cpp). `plslam run --print-config` lists them.
 struct FeatureOptions {
   OrbOptions orb;        ///< keypoints
   LineOptions lines;     ///< line segments
   bool use_lines = true; ///< extract line segments at all
-  bool parallel = true;  ///< points and lines on two threads (the result does not depend on it)
-  double min_depth_m = 0.1;  ///< depth readings below this count as none
+  bool parallel = true;
+  double min_depth_m = 0.1;
 };
 
 void bindFeatureOptions(OptionTable* table, FeatureOptions* options);

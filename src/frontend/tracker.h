@@ -70,43 +70,42 @@ inline bool isTracked(TrackingStatus s) {
          s == TrackingStatus::kReanchored;
 }
 
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindTrackerOptions (system/system_options.cpp). `plslam run --print-config` lists them.
 struct TrackerOptions {
-  int min_init_points = 50;          ///< keypoints with valid depth needed to initialise
-  double max_depth_m = 6.0;          ///< keypoints farther than this make no map points
-  int min_inliers = 20;              ///< fewer pose inliers (points + lines) -> lost
-  double wide_radius_px = 15.0;      ///< projection search radius with the motion-model pose
-  double narrow_radius_px = 5.0;     ///< projection search radius after the first optimisation
-  int max_descriptor_distance = 75;  ///< Hamming distance accepted for ORB matches
-  float ratio = 0.85f;               ///< best / second-best Hamming ratio
-  int max_line_descriptor_distance = 80;  ///< Hamming distance accepted for LBD matches
-  double line_angle_deg = 8.0;       ///< max angle between a projected map line and a segment
-  double line_distance_px = 8.0;     ///< max distance of a segment's endpoints to the projected line
-  int local_keyframes = 12;          ///< keyframes whose landmarks form the local map
-  int covisible_min_shared = 15;     ///< keyframes sharing this many points with the reference are its covisible ones
-  double near_plane_m = 0.1;         ///< landmarks closer to the camera than this are not projected
-  int keyframe_max_frames = 20;      ///< a keyframe at least this often (frames), except on a revisit (the frame shares most with a keyframe older than the local_keyframes newest)
-  int keyframe_min_frames = 2;       ///< and never more often than this
-  double keyframe_inlier_ratio = 0.75;  ///< new keyframe when inliers < ratio * reference keyframe's landmarks
-  int keyframe_min_inliers = 120;    ///< or when fewer inliers than this remain
-  int keyframe_min_support = 40;     ///< but never from a frame with fewer inliers than this (its pose is weak)
-  double keyframe_max_translation_m = 0.15;  ///< or when the camera moved this far from the reference keyframe
-  double keyframe_max_rotation_deg = 12.0;   ///< or turned this much
+  int min_init_points = 50;
+  double max_depth_m = 6.0;
+  int min_inliers = 20;
+  double wide_radius_px = 15.0;
+  double narrow_radius_px = 5.0;
+  int max_descriptor_distance = 75;
+  float ratio = 0.85f;
+  int max_line_descriptor_distance = 80;
+  double line_angle_deg = 8.0;
+  double line_distance_px = 8.0;
+  int local_keyframes = 12;
+  int covisible_min_shared = 15;
+  double near_plane_m = 0.1;
+  int keyframe_max_frames = 20;
+  int keyframe_min_frames = 2;
+  double keyframe_inlier_ratio = 0.75;
+  int keyframe_min_inliers = 120;
+  int keyframe_min_support = 40;
+  double keyframe_max_translation_m = 0.15;
+  double keyframe_max_rotation_deg = 12.0;
   bool use_lines = true;             ///< use line features
-  /// A pose that moved the camera faster than this since the last tracked frame is refused
-  /// (hand-held cameras stay under about 2 m/s, a TurtleBot3 under 0.26 m/s).
+  // Hand-held cameras stay under about 2 m/s, a TurtleBot3 under 0.26 m/s.
   double max_speed_m_s = 4.0;
-  bool reference_fallback = true;    ///< when the motion model fails: match the reference keyframe through the vocabulary
-  double wide_fallback_factor = 3.0; ///< then search the prediction in a window this many times wider (<= 1: no)
-  int min_vocabulary_matches = 15;   ///< point + line matches a keyframe needs for a fallback or relocalisation attempt
-  int min_pnp_points = 12;           ///< point matches for PnP RANSAC (fewer: start from the prediction, lines carry)
-  int pnp_iterations = 200;          ///< PnP RANSAC iterations
-  double pnp_error_px = 4.0;         ///< PnP RANSAC reprojection threshold (px)
-  int relocalisation_min_inliers = 40;  ///< pose inliers (points + lines) that accept a relocalisation
-  int relocalisation_recent_keyframes = 8;  ///< without a vocabulary: the recent keyframes relocalisation tries
+  bool reference_fallback = true;
+  double wide_fallback_factor = 3.0;
+  int min_vocabulary_matches = 15;
+  int min_pnp_points = 12;
+  int pnp_iterations = 200;
+  double pnp_error_px = 4.0;
+  int relocalisation_min_inliers = 40;
+  int relocalisation_recent_keyframes = 8;
   PlaceQueryOptions relocalisation;  ///< with a vocabulary: the keyframes relocalisation tries, over the whole map
-  /// Lost this long (s since the last tracked frame) with every relocalisation failing:
-  /// track on from a new keyframe at the last tracked pose (0: stay lost until relocalised).
-  /// Never in localisation, nor before a loaded map was first relocalised in.
+  // Never used in localisation, nor before a loaded map was first relocalised in.
   double reanchor_after_s = 1.0;
   /// Track against the map without changing it (a loaded map): no keyframes, no landmark
   /// visible/found counts; relocalisation searches every keyframe.

@@ -61,37 +61,37 @@ enum class LoopStatus {
 constexpr int kLoopStatusCount = 8;
 const char* toString(LoopStatus status);
 
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindLoopOptions (system/system_options.cpp). `plslam run --print-config` lists them.
 struct LoopOptions {
-  std::string vocabulary;            ///< vocabulary file (empty: the one shipped in vocab/)
-  double point_weight = 0.6;         ///< weight of the ORB score in the combined similarity
-  double line_weight = 0.4;          ///< weight of the LBD score (0 when either keyframe has no lines)
-  double min_normalised_score = 0.65; ///< candidates need score / best-covisible score above this
-  double min_score = 0.02;           ///< and a combined score above this
-  int exclude_recent = 10;           ///< the last keyframes before the query are never candidates
-  int covisible_exclude_min_shared = 1;  ///< keyframes sharing this many points with the query are not candidates
-  int max_candidates = 3;            ///< best candidates examined per keyframe
-  int consistency = 2;               ///< consecutive keyframes that must see the place (1: none)
-  bool use_semantics = true;         ///< weigh scores with the keyframes' instances
+  std::string vocabulary;
+  double point_weight = 0.6;
+  double line_weight = 0.4;
+  double min_normalised_score = 0.65;
+  double min_score = 0.02;
+  int exclude_recent = 10;
+  int covisible_exclude_min_shared = 1;
+  int max_candidates = 3;
+  int consistency = 2;
+  bool use_semantics = true;
   SemanticOptions semantic;          ///< instance matching
   BruteForceOptions matching{64, 0.8f, true};  ///< ORB matching for verification
-  /// LBD distance accepted for a line that agrees with the points' pose (loose: the
-  /// geometry chose it, and LBD changes with the viewpoint across a loop).
+  // Loose: the points' pose chose the line, and LBD changes with the viewpoint across a loop.
   int line_max_distance = 110;
-  double max_depth_m = 6.0;          ///< keypoints farther than this are not used
+  double max_depth_m = 6.0;
   RigidRansacOptions ransac;         ///< 3D-3D RANSAC
-  int min_matches = 30;              ///< ORB matches with depth needed
-  int min_inliers = 25;              ///< RANSAC point inliers needed
-  double min_inlier_ratio = 0.3;     ///< inliers / matches needed
-  double edge_sigma_trans_m = 0.02;  ///< pose-graph edge sigma, translation (m)
-  double edge_sigma_rot_deg = 1.0;   ///< pose-graph edge sigma, rotation (deg)
-  int covisibility_edge_min_shared = 50;  ///< keyframe pairs sharing this many points get an edge
-  bool fuse_duplicates = true;       ///< merge map points seen at both ends of the loop
-  int min_keyframes_between_loops = 5;  ///< keyframes after an accepted loop before the next
+  int min_matches = 30;
+  int min_inliers = 25;
+  double min_inlier_ratio = 0.3;
+  double edge_sigma_trans_m = 0.02;
+  double edge_sigma_rot_deg = 1.0;
+  int covisibility_edge_min_shared = 50;
+  bool fuse_duplicates = true;
+  int min_keyframes_between_loops = 5;
   PoseGraphOptions pose_graph;       ///< solver
-  /// After the pose graph, a bundle adjustment of every keyframe and map point (ORB-SLAM's
-  /// global BA). Lines follow their keyframe: with the map lines in it the loop scene's ATE
-  /// rose (docs/RESULTS.md, "Design choices measured earlier"). Solved on a snapshot of the
-  /// map without its lock, applied in one short critical section (loop/map_correction.h).
+  // ORB-SLAM's global BA. Lines follow their keyframe instead of entering it (docs/RESULTS.md,
+  // "Design choices measured earlier"). Solved on a snapshot of the map without its lock,
+  // applied in one short critical section (loop/map_correction.h).
   bool global_ba = true;
   BundleAdjusterOptions ba = globalBundleOptions();  ///< its solver (first keyframe fixed)
 

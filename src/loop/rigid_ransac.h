@@ -21,13 +21,15 @@ namespace plslam {
 
 class OptionTable;
 
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindRigidRansacOptions (loop/option_keys.cpp). `plslam run --print-config` lists them.
 struct RigidRansacOptions {
-  int iterations = 300;         ///< RANSAC samples
-  double threshold_m = 0.03;    ///< inlier distance at zero depth, metres
-  double depth_coeff = 0.01;    ///< plus this times depth squared (1/m)
-  int refine_rounds = 5;        ///< least-squares refits on the inliers
-  double line_angle_deg = 5;    ///< direction difference accepted for a line inlier
-  uint64_t seed = 1;            ///< sampling seed
+  int iterations = 300;
+  double threshold_m = 0.03;
+  double depth_coeff = 0.01;
+  int refine_rounds = 5;
+  double line_angle_deg = 5;
+  uint64_t seed = 1;
 };
 
 /// Binds `prefix` + "iterations", "threshold_m", ...

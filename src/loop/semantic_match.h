@@ -28,17 +28,19 @@ namespace plslam {
 
 class OptionTable;
 
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindSemanticOptions (loop/option_keys.cpp). `plslam run --print-config` lists them.
 struct SemanticOptions {
-  double max_image_offset = 0.25;     ///< box centres this far apart (fraction of the image diagonal) do not match
-  double max_depth_difference_m = 1.0;  ///< centroid depths differing more do not match
-  double max_position_error_m = 0.35;   ///< 3D disagreement allowed (under a pose, or of pair distances)
-  int min_matches = 2;                ///< fewer consistent instances never raise a score
-  int min_instances_to_refute = 2;    ///< both keyframes need this many static instances for a disagreement to lower it
-  double generic_weight = 0.3;        ///< weight of a generic class's match (others weigh 1)
+  double max_image_offset = 0.25;
+  double max_depth_difference_m = 1.0;
+  double max_position_error_m = 0.35;
+  int min_matches = 2;
+  int min_instances_to_refute = 2;
+  double generic_weight = 0.3;
   std::vector<std::string> generic_classes = {"chair", "cup", "bottle", "book", "potted plant", "person", "tv", "laptop",
-                                              "keyboard", "mouse", "dining table"};  ///< common classes (COCO names)
-  double gain = 0.5;     ///< score *= 1 + gain * similarity when the instances agree
-  double penalty = 0.5;  ///< score *= 1 - penalty when they disagree
+                                              "keyboard", "mouse", "dining table"};
+  double gain = 0.5;
+  double penalty = 0.5;
 };
 
 /// Binds `prefix` + "max_image_offset", ..., "generic_classes".

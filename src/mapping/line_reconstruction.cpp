@@ -47,7 +47,7 @@ void bindLineFitOptions(OptionTable* t, const std::string& p, LineFitOptions* o)
   t->bind(p + "min_view_angle_deg", &o->min_view_angle_deg, "lines closer than this to an endpoint's viewing ray are refused (deg)", Range{0, 90, false});
   t->bind(p + "min_length_m", &o->min_length_m, "shortest 3D segment kept (m)", atLeast(0));
   t->bind(p + "max_length_m", &o->max_length_m, "longest 3D segment kept (m)", above(0));
-  t->bind(p + "endpoint_median3x3", &o->endpoint_median3x3, "endpoint method (its rate is reported): depth = median of the valid 3x3 neighbours");
+  t->bind(p + "endpoint_median3x3", &o->endpoint_median3x3, "endpoint method (its rate is reported): depth = median of the valid 3x3 neighbours (5 needed), else the exact pixel");
 }
 
 void LineFitOptions::validate() const {

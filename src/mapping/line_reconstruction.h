@@ -39,31 +39,33 @@ enum class LineFitStatus {
 };
 const char* toString(LineFitStatus status);
 
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindLineFitOptions (mapping/line_reconstruction.cpp). `plslam run --print-config` lists them.
 struct LineFitOptions {
   // Sampling along the segment (fitLine3D).
-  double sample_step_px = 2.5;    ///< spacing of the samples along the 2D segment, pixels
-  int max_samples = 60;           ///< at most this many samples per segment (spacing grows)
-  double min_segment_px = 10.0;   ///< shorter 2D segments are refused
+  double sample_step_px = 2.5;
+  int max_samples = 60;
+  double min_segment_px = 10.0;
   // Depth lookup.
-  double min_depth_m = 0.1;       ///< depths below this are treated as missing
-  double max_depth_m = 6.0;       ///< depths above this are treated as missing
-  int perp_search_px = 2;         ///< half-width of the window searched perpendicular to the segment
-  double surface_jump_tolerances = 2.0;  ///< a step > this * tolerance(z) between window neighbours separates two surfaces
+  double min_depth_m = 0.1;
+  double max_depth_m = 6.0;
+  int perp_search_px = 2;
+  double surface_jump_tolerances = 2.0;
   // Depth noise model and inlier test: tol(z) = inlier_sigmas * depth_noise_coeff * z^2 + inlier_base_m.
-  double depth_noise_coeff = 0.0015;  ///< Kinect-like depth sigma per metre^2 (sigma = c z^2)
-  double inlier_sigmas = 3.0;         ///< inlier threshold in depth sigmas
-  double inlier_base_m = 0.005;       ///< constant part of the inlier threshold, metres
+  double depth_noise_coeff = 0.0015;
+  double inlier_sigmas = 3.0;
+  double inlier_base_m = 0.005;
   // Robust fit.
-  double min_inlier_ratio = 0.6;  ///< inliers needed, as a fraction of the samples with valid depth
-  int min_inliers = 8;            ///< and at least this many inliers
-  int refit_iterations = 2;       ///< inlier re-selection + weighted PCA refits after RANSAC
-  double max_extrapolation = 0.2; ///< endpoints may reach past the outermost inliers by this fraction of their extent
+  double min_inlier_ratio = 0.6;
+  int min_inliers = 8;
+  int refit_iterations = 2;
+  double max_extrapolation = 0.2;
   // Plausibility.
-  double min_view_angle_deg = 10.0;  ///< reject lines closer than this to an endpoint's viewing ray
-  double min_length_m = 0.02;        ///< shortest accepted 3D segment
-  double max_length_m = 10.0;        ///< longest accepted 3D segment
+  double min_view_angle_deg = 10.0;
+  double min_length_m = 0.02;
+  double max_length_m = 10.0;
   // Endpoint method only.
-  bool endpoint_median3x3 = true;  ///< endpoint depth = median of the valid 3x3 neighbours (>= 5 needed), else the exact pixel
+  bool endpoint_median3x3 = true;
 
   /// Depth-dependent inlier tolerance (metres) at depth z.
   double tolerance(double z) const { return inlier_sigmas * depth_noise_coeff * z * z + inlier_base_m; }

@@ -20,15 +20,17 @@
 
 namespace plslam {
 
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindMapperOptions (system/system_options.cpp). `plslam run --print-config` lists them.
 struct LocalMapperOptions {
   bool use_lines = true;           ///< build and optimise 3D lines
-  bool local_ba = true;            ///< run the local bundle adjustment
-  int ba_keyframes = 8;            ///< keyframes optimised together: the new one and its best covisible ones
-  int ba_fixed_keyframes = 16;     ///< at most this many further keyframes held fixed around them
-  int min_covisible_points = 15;   ///< shared points that make two keyframes covisible
-  double cull_found_ratio = 0.25;  ///< a landmark found in fewer than this fraction of the frames it was predicted in is culled
-  int cull_min_visible = 6;        ///< ... once it was predicted this often
-  int cull_single_after = 3;       ///< a point seen by one keyframe only is culled this many keyframes later
+  bool local_ba = true;
+  int ba_keyframes = 8;
+  int ba_fixed_keyframes = 16;
+  int min_covisible_points = 15;
+  double cull_found_ratio = 0.25;
+  int cull_min_visible = 6;
+  int cull_single_after = 3;
   LineFitOptions line_fit;         ///< line fitting (and endpoint method) parameters
   BundleAdjusterOptions ba = mappingBundleOptions();  ///< local bundle adjustment
 

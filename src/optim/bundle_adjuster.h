@@ -86,14 +86,16 @@ struct BundleResult {
   bool ok() const { return status == OptimStatus::kOk; }
 };
 
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindBundleAdjusterOptions (optim/option_keys.cpp). `plslam run --print-config` lists them.
 struct BundleAdjusterOptions {
   enum class LinearSolver { kAuto, kDenseSchur, kSparseSchur };
   MeasurementModel model;                 ///< noise, chi2 gates (Huber threshold = sqrt(chi2)), depth use
-  int max_iterations = 10;                ///< Levenberg-Marquardt iterations of the first (robust) pass
-  int refine_iterations = 10;             ///< iterations of the second pass without the outliers (0 = none)
-  double max_time_s = 0.0;                ///< wall-time budget over both passes (0 = unlimited)
-  LinearSolver linear_solver = LinearSolver::kAuto;  ///< kAuto: dense Schur up to 40 free keyframes, else sparse
-  int num_threads = 1;                    ///< Ceres threads
+  int max_iterations = 10;
+  int refine_iterations = 10;
+  double max_time_s = 0.0;
+  LinearSolver linear_solver = LinearSolver::kAuto;
+  int num_threads = 1;
 };
 
 /// Binds `prefix` + "iterations", "refine_iterations", ...; the model is bound apart (bindMeasurementModel).

@@ -18,14 +18,16 @@ class OptionTable;
 /// "Design choices measured earlier"). MeasurementModel's own default is the sensor's noise.
 constexpr double kSolverDepthSigmaCoeff = 0.025;
 
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindMeasurementModel (optim/option_keys.cpp). `plslam run --print-config` lists them.
 struct MeasurementModel {
-  double pixel_sigma = 1.0;          ///< keypoint / segment sigma at octave 0, pixels
+  double pixel_sigma = 1.0;
   double scale_factor = 1.2;         ///< pyramid scale between octaves: sigma = pixel_sigma * scale_factor^octave
-  double depth_sigma_coeff = 0.0015; ///< Kinect-like depth noise: sigma_z = coeff * z^2 (z in metres)
-  double chi2_2dof = 5.991;          ///< 95% chi2 gate (and Huber threshold squared) for 2-dof terms: points, lines
-  double chi2_3dof = 7.815;          ///< 95% chi2 gate (and Huber threshold squared) for points with depth
-  bool use_depth = true;             ///< add a depth residual to point observations with a valid depth
-  double min_depth = 1e-3;           ///< a point closer than this to the image plane (metres) cannot be projected
+  double depth_sigma_coeff = 0.0015;
+  double chi2_2dof = 5.991;
+  double chi2_3dof = 7.815;
+  bool use_depth = true;
+  double min_depth = 1e-3;
 
   /// Pixel sigma of a feature at `octave`.
   double pixelSigma(int octave) const;

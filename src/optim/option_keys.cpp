@@ -23,7 +23,7 @@ void bindPoseOptimizerOptions(OptionTable* t, const std::string& p, PoseOptimize
   t->bind(p + "iterations", &o->iterations_per_round, "solver iterations per round", atLeast(1));
   t->bind(p + "min_inliers", &o->min_inliers, "fewer inlier observations: the solve fails", atLeast(1));
   t->bind(p + "robust_last_round", &o->robust_last_round, "keep the Huber kernel in the last round (ORB-SLAM drops it)");
-  t->bind(p + "normal_cholesky", &o->normal_cholesky, "dense normal Cholesky (else dense QR) for the 6-unknown solve");
+  t->bind(p + "normal_cholesky", &o->normal_cholesky, "dense normal Cholesky (else dense QR) for the 6-unknown solve (Cholesky is the fastest for one 6-dof block)");
   t->bind(p + "threads", &o->num_threads, "Ceres threads of the pose solve", atLeast(1));
 }
 
@@ -31,7 +31,7 @@ void bindBundleAdjusterOptions(OptionTable* t, const std::string& p, BundleAdjus
   using Solver = BundleAdjusterOptions::LinearSolver;
   t->bind(p + "iterations", &o->max_iterations, "bundle adjustment iterations (robust pass)", atLeast(1));
   t->bind(p + "refine_iterations", &o->refine_iterations, "bundle adjustment iterations without the outliers (0: none)", atLeast(0));
-  t->bind(p + "max_time_s", &o->max_time_s, "bundle adjustment time budget, seconds (0: none)", atLeast(0));
+  t->bind(p + "max_time_s", &o->max_time_s, "bundle adjustment wall-time budget over both passes, seconds (0: none)", atLeast(0));
   t->bindCustom(
       p + "linear_solver", fieldSpan(&o->linear_solver),
       [o](const std::string& v) {
@@ -44,7 +44,7 @@ void bindBundleAdjusterOptions(OptionTable* t, const std::string& p, BundleAdjus
         return std::string(o->linear_solver == Solver::kAuto ? "auto"
                            : o->linear_solver == Solver::kDenseSchur ? "dense_schur" : "sparse_schur");
       },
-      "auto, dense_schur or sparse_schur", "bundle adjustment linear solver (auto: dense Schur up to 40 free keyframes)");
+      "auto, dense_schur or sparse_schur", "bundle adjustment linear solver (auto: dense Schur up to 40 free keyframes, else sparse Schur)");
   t->bind(p + "threads", &o->num_threads, "Ceres threads of the bundle adjustment", atLeast(1));
 }
 

@@ -45,11 +45,13 @@ struct PoseGraphResult {
   bool ok() const { return status == OptimStatus::kOk; }
 };
 
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindPoseGraphOptions (optim/option_keys.cpp). `plslam run --print-config` lists them.
 struct PoseGraphOptions {
-  int max_iterations = 100;    ///< Levenberg-Marquardt iterations
-  double max_time_s = 0.0;     ///< wall-time budget (0 = unlimited)
-  double huber_delta = 0.0;    ///< Huber threshold on the whitened edge error (0 = plain least squares)
-  int num_threads = 1;         ///< Ceres threads
+  int max_iterations = 100;
+  double max_time_s = 0.0;
+  double huber_delta = 0.0;
+  int num_threads = 1;
 };
 
 /// Binds `prefix` + "iterations", "max_time_s", "huber_delta", "threads".

@@ -55,14 +55,16 @@ struct PoseOnlyResult {
   double time_ms = 0.0;             ///< wall time of optimize()
 };
 
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindPoseOptimizerOptions (optim/option_keys.cpp). `plslam run --print-config` lists them.
 struct PoseOptimizerOptions {
   MeasurementModel model;            ///< noise, chi2 gates, depth use
-  int rounds = 4;                    ///< optimise / classify rounds
-  int iterations_per_round = 10;     ///< Levenberg-Marquardt iterations per round
-  int min_inliers = 10;              ///< fewer inlier observations (points + lines) -> kTooFewInliers
-  bool robust_last_round = false;    ///< keep the Huber weights in the last round (ORB-SLAM drops the kernel)
-  bool normal_cholesky = true;       ///< DENSE_NORMAL_CHOLESKY (fastest for one 6-dof block); else DENSE_QR
-  int num_threads = 1;               ///< Ceres threads (Jacobian evaluation)
+  int rounds = 4;
+  int iterations_per_round = 10;
+  int min_inliers = 10;
+  bool robust_last_round = false;
+  bool normal_cholesky = true;
+  int num_threads = 1;
 };
 
 /// Binds `prefix` + "rounds", "iterations", ...; the model is bound apart (bindMeasurementModel).

@@ -16,11 +16,13 @@
 
 namespace plslam {
 
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindTrackerOptions (system/system_options.cpp). `plslam run --print-config` lists them.
 struct PlaceQueryOptions {
-  int max_candidates = 5;            ///< keyframes returned at most
-  double min_relative_score = 0.5;   ///< and only those scoring at least this fraction of the best
-  double point_weight = 0.6;         ///< weight of the ORB score
-  double line_weight = 0.4;          ///< weight of the LBD score (when both sides have lines)
+  int max_candidates = 5;
+  double min_relative_score = 0.5;
+  double point_weight = 0.6;
+  double line_weight = 0.4;
 };
 
 /// A keyframe and how much it looks like the query (0..1).

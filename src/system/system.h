@@ -41,12 +41,13 @@
 
 namespace plslam {
 
+/// Configuration keys: each field's key, doc string and range are where it is bound, in
+/// bindCalibrationOptions (system/system_options.cpp), bindLoopOptions (system/system_options.cpp),
+/// bindOptions (system/system_options.cpp). `plslam run --print-config` lists them.
 struct SystemOptions {
-  bool sequential = false;      ///< run every stage on the caller's thread in a fixed order (deterministic)
-  bool use_lines = true;        ///< use line features (tracking, mapping)
-  int mapping_queue = 8;        ///< keyframes waiting for the local mapper before tracking waits
-  /// Nice value of the mapping and loop threads (core/thread_priority.h): the scheduler then
-  /// prefers the tracking threads when the cores are busy. 0 = the same priority as tracking.
+  bool sequential = false;
+  bool use_lines = true;
+  int mapping_queue = 8;
   int background_nice = 5;
   FeatureOptions features;      ///< ORB and line extraction
   TrackerOptions tracker;       ///< tracking
@@ -54,17 +55,15 @@ struct SystemOptions {
   DynamicFilterOptions dynamic; ///< rejection of moving objects (dynamic.enabled = false: none)
   SegmenterOptions segmenter;   ///< instance segmentation backend (kind none: geometry only)
   DenseOptions dense;           ///< dense clouds per keyframe and the dense products (dense/)
-  bool use_loop = true;         ///< loop closure (place recognition + pose graph) on its own thread
+  bool use_loop = true;
   LoopOptions loop;             ///< loop closure
-  /// Re-estimate each frame's pose once local BA has refined its landmarks (frame_refinement.h):
-  /// when this many keyframes have been made since it was tracked, or this many frames (so
-  /// that a run without new keyframes, a loaded map, holds few), and at finish().
+  // Frame refinement (frame_refinement.h): the frame count bounds what a run without new
+  // keyframes (a loaded map) holds; finish() refines the rest.
   bool refine_frames = true;
   int refine_after_keyframes = 8;
   int refine_after_frames = 300;
-  /// The sensor's calibration (`plslam calib base`, `plslam calib depth`), keys calibration.*:
-  /// the camera-to-base file (loaded into dense.T_base_cam by session/run_config; the map
-  /// frame's origin is then below the base) and the depth correction applied by feed().
+  // The sensor's calibration: session/run_config loads the camera-to-base file into
+  // dense.T_base_cam; feed() applies the depth correction.
   std::string camera_to_base;
   DepthCorrection depth_correction;
 };

@@ -28,7 +28,7 @@ void bindTrackerOptions(OptionTable* t, TrackerOptions* o) {
   t->bind("tracker.keyframe_min_inliers", &tr.keyframe_min_inliers, "keyframe when fewer inliers than this");
   t->bind("tracker.keyframe_min_support", &tr.keyframe_min_support,
           "never a keyframe from a frame with fewer inliers than this (a weak pose would seed the map)");
-  t->bind("tracker.keyframe_max_translation_m", &tr.keyframe_max_translation_m, "keyframe after moving this far (m)");
+  t->bind("tracker.keyframe_max_translation_m", &tr.keyframe_max_translation_m, "keyframe after moving this far from the reference keyframe (m)");
   t->bind("tracker.keyframe_max_rotation_deg", &tr.keyframe_max_rotation_deg, "keyframe after turning this much (deg)");
   t->bind("tracker.max_speed_m_s", &tr.max_speed_m_s,
           "a pose that moved the camera faster than this since the last tracked frame is refused (m/s)");
@@ -38,7 +38,7 @@ void bindTrackerOptions(OptionTable* t, TrackerOptions* o) {
           "then search the prediction in a window this many times wider (<= 1: no)");
   t->bind("tracker.min_vocabulary_matches", &tr.min_vocabulary_matches,
           "point + line matches a keyframe needs for a fallback or relocalisation attempt");
-  t->bind("tracker.min_pnp_points", &tr.min_pnp_points, "point matches (and PnP inliers) needed for a PnP pose");
+  t->bind("tracker.min_pnp_points", &tr.min_pnp_points, "point matches (and PnP inliers) needed for a PnP pose (fewer: start from the prediction, lines carry the pose)");
   t->bind("tracker.pnp_iterations", &tr.pnp_iterations, "PnP RANSAC iterations");
   t->bind("tracker.pnp_error_px", &tr.pnp_error_px, "PnP RANSAC reprojection threshold (px)");
   t->bind("tracker.relocalisation_min_inliers", &tr.relocalisation_min_inliers,
@@ -64,9 +64,9 @@ void bindDynamicOptions(OptionTable* t, SystemOptions* o) {
   DynamicFilterOptions& d = o->dynamic;
   t->bind("dynamic.enabled", &d.enabled, "reject features on moving objects (geometry, Delaunay graph, instance masks)");
   t->bind("dynamic.segment_every", &d.segment_every, "segment every this many frames");
-  t->bind("dynamic.compare_gap", &d.compare_gap, "check motion against the frame this many frames back");
+  t->bind("dynamic.compare_gap", &d.compare_gap, "check motion against the frame this many frames back (a slow walker moves too little between adjacent 30 Hz frames to be seen)");
   t->bind("dynamic.match_radius_px", &d.match_radius_px, "search radius for adjacent-frame keypoint matches (px)");
-  t->bind("dynamic.match_ratio", &d.match_ratio, "adjacent-frame matches need best < ratio * second-best Hamming distance");
+  t->bind("dynamic.match_ratio", &d.match_ratio, "adjacent-frame matches need best < ratio * second-best Hamming distance (0.9 let repeated textures and edges give consistent mismatches)");
   t->bind("dynamic.match_max_distance", &d.match_max_distance, "ORB Hamming distance accepted for adjacent-frame matches");
   t->bind("dynamic.line_masked_fraction", &d.line_masked_fraction,
           "segments with more than this fraction of their length on dynamic pixels are removed");
@@ -74,7 +74,7 @@ void bindDynamicOptions(OptionTable* t, SystemOptions* o) {
   t->bind("dynamic.spread_with_masks", &d.spread_with_masks, "spread labels also on frames with instance masks");
   t->bind("dynamic.replay_latency_frames", &d.latency_frames,
           "use masks exactly this many frames after the frame they were segmented on, waiting for them if needed (reproduces a slow segmenter; 0: as soon as ready)");
-  t->bind("dynamic.propagate_masks", &d.propagate_masks, "carry late masks (threaded mode, or replay_latency_frames > 0) to the current frame by optical flow per instance");
+  t->bind("dynamic.propagate_masks", &d.propagate_masks, "carry late masks (threaded mode, or replay_latency_frames > 0) to the current frame by optical flow per instance; sequential mode without a latency never carries them");
   t->bind("dynamic.yolo_confidence", &o->segmenter.yolo.confidence, "YOLOv8-seg minimum class score");
   t->bind("dynamic.yolo_nms_iou", &o->segmenter.yolo.nms_iou, "YOLOv8-seg class-aware NMS overlap");
   t->bind("dynamic.yolo_mask_threshold", &o->segmenter.yolo.mask_threshold,
@@ -101,7 +101,7 @@ void bindLoopOptions(OptionTable* t, SystemOptions* o) {
           "nice value (0-19) of the mapping and loop threads, so that tracking wins the cores when both want them");
   t->bind("loop.vocabulary", &l.vocabulary, "bag-of-words vocabulary of loop closure and relocalisation (empty: vocab/plslam_orb_lbd.voc of the sources)");
   t->bind("loop.point_weight", &l.point_weight, "weight of the ORB similarity in the combined score");
-  t->bind("loop.line_weight", &l.line_weight, "weight of the LBD similarity in the combined score");
+  t->bind("loop.line_weight", &l.line_weight, "weight of the LBD similarity in the combined score (0 when either keyframe has no lines)");
   t->bind("loop.min_normalised_score", &l.min_normalised_score, "candidates need score / best covisible score above this");
   t->bind("loop.min_score", &l.min_score, "candidates need a combined score above this");
   t->bind("loop.exclude_recent", &l.exclude_recent, "the last keyframes before the query are never candidates");
@@ -136,14 +136,14 @@ void bindDenseOptions(OptionTable* t, DenseOptions* o) {
   t->bind("dense.min_depth_m", &dn.min_depth_m, "pixels nearer than this are left out of the clouds (m)");
   t->bind("dense.max_depth_m", &dn.max_depth_m, "pixels farther than this are left out of the clouds (m)");
   t->bind("dense.pixel_stride", &dn.pixel_stride, "use every n-th pixel in u and v");
-  t->bind("dense.edge_jump_ratio", &dn.edge_jump_ratio, "drop pixels at depth jumps larger than this fraction (0 = keep)");
-  t->bind("dense.smooth_radius_px", &dn.smooth_radius_px, "depth denoising window radius (px, 0 = off)");
+  t->bind("dense.edge_jump_ratio", &dn.edge_jump_ratio, "drop flying pixels: depth differing from a 4-neighbour's by more than this fraction of it (0 = keep)");
+  t->bind("dense.smooth_radius_px", &dn.smooth_radius_px, "depth denoising: inverse depth averaged over a (2r+1)^2 window of similar depths, r in px (0 = off)");
   t->bind("dense.depth_sigma_coeff", &dn.depth_sigma_coeff, "depth noise sigma = coeff * z^2, gates the denoising window (1/m)");
   t->bind("dense.keyframe_voxel_m", &dn.keyframe_voxel_m, "voxel size of each keyframe's cloud (m, 0 = none)");
   t->bind("dense.fused_voxel_m", &dn.fused_voxel_m, "voxel size of the fused world cloud (m, 0 = keep every point)");
   t->bind("dense.min_voxel_points", &dn.min_voxel_points, "fused voxels with fewer points are dropped");
   t->bind("dense.octree_resolution_m", &dn.octree_resolution_m, "OctoMap leaf size (m)");
-  t->bind("dense.max_range_m", &dn.max_range_m, "OctoMap rays are cut at this range (m, <= 0: none)");
+  t->bind("dense.max_range_m", &dn.max_range_m, "OctoMap rays are cut at this range; farther points only mark free space (m, <= 0: none)");
   t->bind("dense.prob_hit", &dn.prob_hit, "OctoMap occupancy probability of a ray end");
   t->bind("dense.prob_miss", &dn.prob_miss, "OctoMap occupancy probability along a ray");
   t->bind("dense.occupied_thresh", &dn.occupied_thresh, "OctoMap voxels above this probability are occupied");

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -43,6 +44,16 @@ TEST(OptionTable, AppliesYamlAndRefusesUnknownKeys) {
     EXPECT_NE(std::string(e.what()).find("unknown option 's.m'"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("c.yaml"), std::string::npos);
   }
+}
+
+TEST(OptionTable, AKeyWithoutAOneLineDocStringIsAProgrammingError) {
+  int n = 0;
+  OptionTable t;
+  EXPECT_THROW(t.bind("s.n", &n, ""), std::logic_error);
+  EXPECT_THROW(t.bind("s.n", &n, "  "), std::logic_error);
+  EXPECT_THROW(t.bind("s.n", &n, "two\nlines"), std::logic_error);
+  t.bind("s.n", &n, "a count");
+  EXPECT_TRUE(t.has("s.n"));
 }
 
 TEST(OptionTable, RefusesWrongTypes) {
