@@ -1,5 +1,6 @@
 #include "core/option_table.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -168,16 +169,22 @@ void OptionTable::apply(const std::map<std::string, std::string>& values, const 
 std::string OptionTable::toYaml(const std::string& header_comment) const {
   std::ostringstream os;
   if (!header_comment.empty()) os << "# " << header_comment << "\n";
-  std::string section;
-  for (const Entry& e : entries_) {
+  // Keys are grouped by section in the order sections first appear: a section bound in two
+  // places must still be one mapping (YAML readers refuse or overwrite a repeated key).
+  const auto sectionOf = [](const Entry& e) {
     const size_t dot = e.key.find('.');
-    const std::string sec = dot == std::string::npos ? "" : e.key.substr(0, dot);
-    const std::string name = dot == std::string::npos ? e.key : e.key.substr(dot + 1);
-    if (sec != section) {
-      os << sec << ":\n";
-      section = sec;
+    return dot == std::string::npos ? std::string() : e.key.substr(0, dot);
+  };
+  std::vector<std::string> sections;
+  for (const Entry& e : entries_)
+    if (std::find(sections.begin(), sections.end(), sectionOf(e)) == sections.end()) sections.push_back(sectionOf(e));
+  for (const std::string& sec : sections) {
+    if (!sec.empty()) os << sec << ":\n";
+    for (const Entry& e : entries_) {
+      if (sectionOf(e) != sec) continue;
+      const std::string name = sec.empty() ? e.key : e.key.substr(sec.size() + 1);
+      os << (sec.empty() ? "" : "  ") << name << ": " << e.get() << "  # " << e.doc << "\n";
     }
-    os << (sec.empty() ? "" : "  ") << name << ": " << e.get() << "  # " << e.doc << "\n";
   }
   return os.str();
 }

@@ -11,8 +11,10 @@
 
 namespace plslam {
 
+class OptionTable;
+
 /// Configuration keys: each field's key, doc string and range are where it is bound, in
-/// bindDenseOptions (system/system_options.cpp). `plslam run --print-config` lists them.
+/// bindDenseOptions (dense/option_keys.cpp). `plslam run --print-config` lists them.
 struct DenseOptions {
   // --- per keyframe (mapping thread) ---
   bool enabled = true;
@@ -66,6 +68,9 @@ struct DenseOptions {
 
   bool liveMaps() const { return enabled && (live_every_keyframes > 0 || live_every_s > 0); }
 };
+
+/// Binds the dense.* keys (dense/option_keys.cpp).
+void bindDenseOptions(OptionTable* table, DenseOptions* options);
 
 /// Throws ConfigError naming the field when an option is out of range.
 void validateDenseOptions(const DenseOptions& options);

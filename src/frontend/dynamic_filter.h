@@ -39,8 +39,10 @@
 
 namespace plslam {
 
+class OptionTable;
+
 /// Configuration keys: each field's key, doc string and range are where it is bound, in
-/// bindDynamicOptions (system/system_options.cpp). `plslam run --print-config` lists them.
+/// bindDynamicFilterOptions (frontend/option_keys.cpp). `plslam run --print-config` lists them.
 struct DynamicFilterOptions {
   bool enabled = true;
   int segment_every = 3;
@@ -67,6 +69,9 @@ struct DynamicFilterOptions {
   /// are refused, never clamped).
   void validate() const;
 };
+
+/// Binds the dynamic.* keys of the filter and its checks (frontend/option_keys.cpp).
+void bindDynamicFilterOptions(OptionTable* table, DynamicFilterOptions* options);
 
 /// What the filter did with one frame.
 struct DynamicFrameResult {

@@ -42,6 +42,8 @@
 
 namespace plslam {
 
+class OptionTable;
+
 enum class TrackingStatus {
   kInitialized,    ///< first usable frame: the map was created from its depth
   kReanchored,     ///< lost too long to relocalise: a new keyframe at the last tracked pose
@@ -71,7 +73,7 @@ inline bool isTracked(TrackingStatus s) {
 }
 
 /// Configuration keys: each field's key, doc string and range are where it is bound, in
-/// bindTrackerOptions (system/system_options.cpp). `plslam run --print-config` lists them.
+/// bindTrackerOptions (frontend/option_keys.cpp). `plslam run --print-config` lists them.
 struct TrackerOptions {
   int min_init_points = 50;
   double max_depth_m = 6.0;
@@ -122,6 +124,9 @@ struct TrackerOptions {
     return o;
   }
 };
+
+/// Binds the tracker.* keys (frontend/option_keys.cpp).
+void bindTrackerOptions(OptionTable* table, TrackerOptions* options);
 
 /// What track() did with one frame.
 struct TrackingResult {

@@ -48,6 +48,8 @@
 
 namespace plslam {
 
+class OptionTable;
+
 enum class LoopStatus {
   kAccepted,             ///< verified and corrected
   kLowScore,             ///< similarity below the threshold
@@ -62,7 +64,7 @@ constexpr int kLoopStatusCount = 8;
 const char* toString(LoopStatus status);
 
 /// Configuration keys: each field's key, doc string and range are where it is bound, in
-/// bindLoopOptions (system/system_options.cpp). `plslam run --print-config` lists them.
+/// bindLoopOptions (loop/option_keys.cpp). `plslam run --print-config` lists them.
 struct LoopOptions {
   std::string vocabulary;
   double point_weight = 0.6;
@@ -108,6 +110,9 @@ struct LoopOptions {
     return o;
   }
 };
+
+/// Binds the loop.* keys (loop/option_keys.cpp).
+void bindLoopOptions(OptionTable* table, LoopOptions* options);
 
 /// One examined candidate.
 struct LoopCandidate {

@@ -20,8 +20,10 @@
 
 namespace plslam {
 
+class OptionTable;
+
 /// Configuration keys: each field's key, doc string and range are where it is bound, in
-/// bindMapperOptions (system/system_options.cpp). `plslam run --print-config` lists them.
+/// bindLocalMapperOptions (mapping/option_keys.cpp). `plslam run --print-config` lists them.
 struct LocalMapperOptions {
   bool use_lines = true;           ///< build and optimise 3D lines
   bool local_ba = true;
@@ -45,6 +47,9 @@ struct LocalMapperOptions {
     return o;
   }
 };
+
+/// Binds the mapper.* keys (mapping/option_keys.cpp).
+void bindLocalMapperOptions(OptionTable* table, LocalMapperOptions* options);
 
 /// Figures the mapper keeps for the run's statistics.
 struct MapperStats {

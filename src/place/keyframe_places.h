@@ -17,7 +17,7 @@
 namespace plslam {
 
 /// Configuration keys: each field's key, doc string and range are where it is bound, in
-/// bindTrackerOptions (system/system_options.cpp). `plslam run --print-config` lists them.
+/// bindTrackerOptions (frontend/option_keys.cpp). `plslam run --print-config` lists them.
 struct PlaceQueryOptions {
   int max_candidates = 5;
   double min_relative_score = 0.5;

@@ -42,8 +42,7 @@
 namespace plslam {
 
 /// Configuration keys: each field's key, doc string and range are where it is bound, in
-/// bindCalibrationOptions (system/system_options.cpp), bindLoopOptions (system/system_options.cpp),
-/// bindOptions (system/system_options.cpp). `plslam run --print-config` lists them.
+/// system/system_options.cpp (bindOptions and its helpers). `plslam run --print-config` lists them.
 struct SystemOptions {
   bool sequential = false;
   bool use_lines = true;

@@ -80,6 +80,26 @@ TEST(OptionTable, EffectiveConfigurationRoundTrips) {
   EXPECT_EQ(p.name, "zz");
 }
 
+TEST(OptionTable, ASectionBoundInTwoPlacesIsWrittenAsOneMapping) {
+  int a = 1, b = 2, c = 3;
+  OptionTable t;
+  t.bind("first.a", &a, "a");
+  t.bind("second.b", &b, "b");
+  t.bind("first.c", &c, "c");
+  const std::string yaml = t.toYaml();
+  size_t sections = 0;
+  for (size_t at = yaml.find("first:"); at != std::string::npos; at = yaml.find("first:", at + 1)) ++sections;
+  EXPECT_EQ(sections, 1u) << yaml;
+  EXPECT_LT(yaml.find("  c: 3"), yaml.find("second:")) << yaml;  // sections in the order they first appear
+  int a2 = 0, b2 = 0, c2 = 0;
+  OptionTable u;
+  u.bind("first.a", &a2, "a");
+  u.bind("second.b", &b2, "b");
+  u.bind("first.c", &c2, "c");
+  u.apply(parseYamlSubset(yaml, "effective.yaml"), "effective.yaml");
+  EXPECT_EQ(std::make_tuple(a2, b2, c2), std::make_tuple(1, 2, 3));
+}
+
 TEST(YamlSubset, RefusesWhatItDoesNotSupport) {
   EXPECT_THROW(parseYamlSubset("a:\n  - 1\n", "y"), ConfigError);
   EXPECT_THROW(parseYamlSubset("a: [1, 2]\n", "y"), ConfigError);
