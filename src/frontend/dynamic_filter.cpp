@@ -73,6 +73,8 @@ void DynamicFilterOptions::validate() const {
   require(segment_every >= 1, "segment_every", ">= 1", segment_every);
   require(compare_gap >= 1, "compare_gap", ">= 1", compare_gap);
   require(match_radius_px > 0, "match_radius_px", "> 0", match_radius_px);
+  require(predicted_search_px >= 0, "predicted_search_px", ">= 0", predicted_search_px);
+  require(predicted_search_support >= 1, "predicted_search_support", ">= 1", predicted_search_support);
   require(match_ratio > 0 && match_ratio <= 1, "match_ratio", "in (0, 1]", match_ratio);
   require(match_max_distance >= 0 && match_max_distance <= 256, "match_max_distance", "in [0, 256]", match_max_distance);
   require(line_masked_fraction >= 0 && line_masked_fraction <= 1, "line_masked_fraction", "in [0, 1]",
@@ -217,14 +219,11 @@ Segmentation DynamicFilter::latestSegmentation(const RgbdFrame& frame, DynamicFr
   return carrier_.carry(&r->propagation);
 }
 
-// Each keypoint of the earlier frame is searched around where it was, not where the tracker's
-// predicted motion puts it: the check must stay independent of the prediction, which walkers
-// covering the view can bias. Searching around the prediction matched fast turns far better
-// but let the crowd in on the synthetic crowded scene (docs/RESULTS.md, "Where the fast
-// scene's error comes from").
-void DynamicFilter::matchAdjacent(const FrameFeatures& before, const FrameFeatures& f,
-                                  std::vector<MotionCorrespondence>* corr, std::vector<int>* corr_keypoint) const {
-  if (f.points.empty() || before.points.empty()) return;
+// Each keypoint of the earlier frame is searched around `centres` (one per keypoint).
+DynamicFilter::AdjacentMatches DynamicFilter::matchAdjacent(const FrameFeatures& before, const FrameFeatures& f,
+                                                            const std::vector<Eigen::Vector2d>& centres) const {
+  AdjacentMatches out;
+  if (f.points.empty() || before.points.empty()) return out;
   std::vector<Eigen::Vector2d> uv;
   for (const Keypoint& k : f.points) uv.push_back(k.uv);
   PointProjectionOptions po;
@@ -234,7 +233,7 @@ void DynamicFilter::matchAdjacent(const FrameFeatures& before, const FrameFeatur
   po.ratio = options_.match_ratio;
   const PointGrid grid(uv, camera_.width, camera_.height);
   std::vector<PointPrediction> predictions;
-  for (const Keypoint& k : before.points) predictions.push_back({k.uv, -1});
+  for (const Eigen::Vector2d& c : centres) predictions.push_back({c, -1});
   for (const DescriptorMatch& m :
        matchPointsByProjection(predictions, before.point_descriptors, grid, {}, f.point_descriptors, po)) {
     const Keypoint& a = before.points[m.query];
@@ -245,9 +244,58 @@ void DynamicFilter::matchAdjacent(const FrameFeatures& before, const FrameFeatur
     if (std::isfinite(a.depth_m)) c.p_prev = camera_.unprojectIdeal(a.uv, a.depth_m);
     if (std::isfinite(b.depth_m)) c.p_cur = camera_.unprojectIdeal(b.uv, b.depth_m);
     c.pixel_sigma_scale = std::pow(1.2, b.octave);
-    corr->push_back(c);
-    corr_keypoint->push_back(m.train);
+    out.corr.push_back(c);
+    out.keypoint.push_back(m.train);
   }
+  return out;
+}
+
+// Where `prior` (T_cur_prev) moves each earlier keypoint: by its depth, or as a point at
+// infinity (rotation only) without one. Keypoints it moves behind the camera keep their place.
+std::vector<Eigen::Vector2d> DynamicFilter::predictedPositions(const FrameFeatures& before, const SE3& prior) const {
+  std::vector<Eigen::Vector2d> uv;
+  for (const Keypoint& k : before.points) {
+    const bool has_depth = std::isfinite(k.depth_m);
+    const Eigen::Vector3d p = camera_.unprojectIdeal(k.uv, has_depth ? k.depth_m : 1.0);
+    const Eigen::Vector3d q = has_depth ? Eigen::Vector3d(prior * p) : Eigen::Vector3d(prior.rotation() * p);
+    uv.push_back(q.z() > 1e-6 ? camera_.projectIdeal(q) : k.uv);
+  }
+  return uv;
+}
+
+// The check searches each earlier keypoint around where it was, so that it stays independent
+// of the tracker's prediction, which walkers covering the view can bias: searching around the
+// prediction alone let the crowd in on the synthetic crowded scene. When the prediction moves
+// the keypoints further than `predicted_search_px` (median), fast motion has carried most of
+// them out of the search window, so the check also searches around the prediction and takes
+// those matches when their motion has clearly more support (`predicted_search_support` times
+// the inliers): the prediction can help, not overrule. On the crowded scene a dragged tracker's
+// prediction found the crowd with 1.1-1.7 times the inliers of the old positions; on the fast
+// scene the prediction found 2.2-24 times (docs/RESULTS.md, "Where the fast scene's error
+// comes from").
+DynamicFilter::CheckedMatches DynamicFilter::checkAdjacent(const FrameFeatures& before, const FrameFeatures& f,
+                                                           const std::optional<SE3>& prior) const {
+  std::vector<Eigen::Vector2d> where_they_were;
+  for (const Keypoint& k : before.points) where_they_were.push_back(k.uv);
+  CheckedMatches at_old;
+  at_old.matches = matchAdjacent(before, f, where_they_were);
+  at_old.motion = checkMotion(at_old.matches.corr, camera_, options_.motion, prior);
+  if (!prior || options_.predicted_search_px <= 0 || before.points.empty()) return at_old;
+
+  const std::vector<Eigen::Vector2d> predicted = predictedPositions(before, *prior);
+  std::vector<double> shift;
+  for (size_t i = 0; i < predicted.size(); ++i) shift.push_back((predicted[i] - where_they_were[i]).norm());
+  std::nth_element(shift.begin(), shift.begin() + shift.size() / 2, shift.end());
+  if (shift[shift.size() / 2] <= options_.predicted_search_px) return at_old;
+
+  CheckedMatches at_predicted;
+  at_predicted.matches = matchAdjacent(before, f, predicted);
+  at_predicted.motion = checkMotion(at_predicted.matches.corr, camera_, options_.motion, prior);
+  at_predicted.searched_prediction = true;
+  const bool predicted_better =
+      at_predicted.motion.ok() &&
+      (!at_old.motion.ok() || at_predicted.motion.inliers >= options_.predicted_search_support * at_old.motion.inliers);
+  return predicted_better ? at_predicted : at_old;
 }
 
 DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures* f,
@@ -264,13 +312,14 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
     prior = SE3();
     for (int i = 0; i < gap; ++i) prior = *prior_T_cur_prev * *prior;
   }
-  std::vector<MotionCorrespondence> corr;
-  std::vector<int> corr_keypoint;
-  if (!previous_.empty()) matchAdjacent(previous_.front(), *f, &corr, &corr_keypoint);
+  CheckedMatches checked;
+  if (!previous_.empty()) checked = checkAdjacent(previous_.front(), *f, prior);
+  else checked.motion = checkMotion({}, camera_, options_.motion, prior);
   previous_.push_back(FrameFeatures{f->points, f->point_descriptors, {}, cv::Mat()});  // the check uses keypoints only
   while (static_cast<int>(previous_.size()) > options_.compare_gap) previous_.pop_front();
-
-  MotionCheckResult motion = checkMotion(corr, camera_, options_.motion, prior);
+  const std::vector<MotionCorrespondence>& corr = checked.matches.corr;
+  const std::vector<int>& corr_keypoint = checked.matches.keypoint;
+  MotionCheckResult& motion = checked.motion;
   r.motion_status = motion.status;
 
   // Per keypoint labels from the check, spread over the graph of all keypoints when there are
@@ -327,7 +376,8 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
                    " matched ", gap, " frames back (", motion.with_depth, " with depth), motion ",
                    motionCheckStatusName(motion.status), " inliers ", motion.inliers, " moving ", motion.movingCount(),
                    motion.prior_used ? " prior" : "", motion.prior_won ? " prior_won" : "",
-                   motion.prior_rejected ? " prior_rejected" : "", "; rejected ", r.points_rejected, " points, ",
+                   motion.prior_rejected ? " prior_rejected" : "", checked.searched_prediction ? " at_prediction" : "",
+                   "; rejected ", r.points_rejected, " points, ",
                    r.lines_rejected, " lines"));
   return r;
 }

@@ -48,6 +48,8 @@ struct DynamicFilterOptions {
   int segment_every = 3;
   int compare_gap = 3;
   double match_radius_px = 40.0;
+  double predicted_search_px = 20.0;
+  double predicted_search_support = 2.0;
   int match_max_distance = 60;
   float match_ratio = 0.7f;
   double line_masked_fraction = 0.3;
@@ -128,8 +130,19 @@ class DynamicFilter {
   int dueFrame() const;
   Segmented segmentNow(const RgbdFrame& frame, int frame_number);
   bool carriesMasks() const;
-  void matchAdjacent(const FrameFeatures& before, const FrameFeatures& f, std::vector<MotionCorrespondence>* corr,
-                     std::vector<int>* corr_keypoint) const;
+  struct AdjacentMatches {  // keypoint matches with the earlier frame
+    std::vector<MotionCorrespondence> corr;
+    std::vector<int> keypoint;  // per correspondence, its keypoint in the current frame
+  };
+  struct CheckedMatches {  // the matches the check used, and its verdict
+    AdjacentMatches matches;
+    MotionCheckResult motion;
+    bool searched_prediction = false;  // matched around the predicted positions
+  };
+  AdjacentMatches matchAdjacent(const FrameFeatures& before, const FrameFeatures& f,
+                                const std::vector<Eigen::Vector2d>& centres) const;
+  std::vector<Eigen::Vector2d> predictedPositions(const FrameFeatures& before, const SE3& prior) const;
+  CheckedMatches checkAdjacent(const FrameFeatures& before, const FrameFeatures& f, const std::optional<SE3>& prior) const;
   void workerLoop();
 
   PinholeCamera camera_;
