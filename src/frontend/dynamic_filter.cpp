@@ -271,8 +271,8 @@ std::vector<Eigen::Vector2d> DynamicFilter::predictedPositions(const FrameFeatur
 // those matches when their motion has clearly more support (`predicted_search_support` times
 // the inliers): the prediction can help, not overrule. On the crowded scene a dragged tracker's
 // prediction found the crowd with 1.1-1.7 times the inliers of the old positions; on the fast
-// scene the prediction found 2.2-24 times (docs/RESULTS.md, "Where the fast scene's error
-// comes from").
+// scene the prediction found 2.2-24 times (docs/RESULTS.md, "The prediction as a second
+// search, taken only with twice the support").
 DynamicFilter::CheckedMatches DynamicFilter::checkAdjacent(const FrameFeatures& before, const FrameFeatures& f,
                                                            const std::optional<SE3>& prior) const {
   std::vector<Eigen::Vector2d> where_they_were;
