@@ -298,6 +298,26 @@ DynamicFilter::CheckedMatches DynamicFilter::checkAdjacent(const FrameFeatures& 
   return predicted_better ? at_predicted : at_old;
 }
 
+// Checks `f` against the oldest frame kept (compare_gap frames back once there are enough),
+// with the tracker's per-frame prediction extended over that gap at constant velocity, then
+// keeps `f`'s keypoints for the frames to come.
+DynamicFilter::CheckedMatches DynamicFilter::checkAgainstHistory(const FrameFeatures& f,
+                                                                 const std::optional<SE3>& prior_T_cur_prev) {
+  const int gap = static_cast<int>(previous_.size());
+  std::optional<SE3> prior;
+  if (prior_T_cur_prev) {
+    prior = SE3();
+    for (int i = 0; i < gap; ++i) prior = *prior_T_cur_prev * *prior;
+  }
+  CheckedMatches checked;
+  if (!previous_.empty()) checked = checkAdjacent(previous_.front(), f, prior);
+  else checked.motion = checkMotion({}, camera_, options_.motion, prior);
+  checked.gap = gap;
+  previous_.push_back(FrameFeatures{f.points, f.point_descriptors, {}, cv::Mat()});  // the check uses keypoints only
+  while (static_cast<int>(previous_.size()) > options_.compare_gap) previous_.pop_front();
+  return checked;
+}
+
 DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures* f,
                                           const std::optional<SE3>& prior_T_cur_prev) {
   DynamicFrameResult r;
@@ -306,17 +326,7 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
   ++frame_count_;
   const auto t0 = std::chrono::steady_clock::now();
 
-  const int gap = previous_.empty() ? 0 : static_cast<int>(previous_.size());
-  std::optional<SE3> prior;  // the motion over the gap, at the tracker's constant velocity
-  if (prior_T_cur_prev) {
-    prior = SE3();
-    for (int i = 0; i < gap; ++i) prior = *prior_T_cur_prev * *prior;
-  }
-  CheckedMatches checked;
-  if (!previous_.empty()) checked = checkAdjacent(previous_.front(), *f, prior);
-  else checked.motion = checkMotion({}, camera_, options_.motion, prior);
-  previous_.push_back(FrameFeatures{f->points, f->point_descriptors, {}, cv::Mat()});  // the check uses keypoints only
-  while (static_cast<int>(previous_.size()) > options_.compare_gap) previous_.pop_front();
+  CheckedMatches checked = checkAgainstHistory(*f, prior_T_cur_prev);
   const std::vector<MotionCorrespondence>& corr = checked.matches.corr;
   const std::vector<int>& corr_keypoint = checked.matches.keypoint;
   MotionCheckResult& motion = checked.motion;
@@ -373,7 +383,7 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
   r.filter_ms = msSince(t0);
   if (kLog.enabled(LogLevel::kDebug))
     kLog.debug(str("frame ", frame_count_ - 1, ": ", f->points.size() + r.points_rejected, " points, ", corr.size(),
-                   " matched ", gap, " frames back (", motion.with_depth, " with depth), motion ",
+                   " matched ", checked.gap, " frames back (", motion.with_depth, " with depth), motion ",
                    motionCheckStatusName(motion.status), " inliers ", motion.inliers, " moving ", motion.movingCount(),
                    motion.prior_used ? " prior" : "", motion.prior_won ? " prior_won" : "",
                    motion.prior_rejected ? " prior_rejected" : "", checked.searched_prediction ? " at_prediction" : "",

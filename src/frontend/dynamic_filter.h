@@ -138,11 +138,13 @@ class DynamicFilter {
     AdjacentMatches matches;
     MotionCheckResult motion;
     bool searched_prediction = false;  // matched around the predicted positions
+    int gap = 0;                       // frames between the two (0: no earlier frame yet)
   };
   AdjacentMatches matchAdjacent(const FrameFeatures& before, const FrameFeatures& f,
                                 const std::vector<Eigen::Vector2d>& centres) const;
   std::vector<Eigen::Vector2d> predictedPositions(const FrameFeatures& before, const SE3& prior) const;
   CheckedMatches checkAdjacent(const FrameFeatures& before, const FrameFeatures& f, const std::optional<SE3>& prior) const;
+  CheckedMatches checkAgainstHistory(const FrameFeatures& f, const std::optional<SE3>& prior_T_cur_prev);
   void workerLoop();
 
   PinholeCamera camera_;
