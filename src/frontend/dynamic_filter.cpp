@@ -219,19 +219,18 @@ Segmentation DynamicFilter::latestSegmentation(const RgbdFrame& frame, DynamicFr
   return carrier_.carry(&r->propagation);
 }
 
-// Each keypoint of the earlier frame is searched around `centres` (one per keypoint).
+// Each keypoint of the earlier frame is searched around `centres` (one per keypoint) among
+// the keypoints of `f`, whose positions `grid` holds.
 DynamicFilter::AdjacentMatches DynamicFilter::matchAdjacent(const FrameFeatures& before, const FrameFeatures& f,
+                                                            const PointGrid& grid,
                                                             const std::vector<Eigen::Vector2d>& centres) const {
   AdjacentMatches out;
   if (f.points.empty() || before.points.empty()) return out;
-  std::vector<Eigen::Vector2d> uv;
-  for (const Keypoint& k : f.points) uv.push_back(k.uv);
   PointProjectionOptions po;
   po.radius_px = options_.match_radius_px;
   po.max_distance = options_.match_max_distance;
   po.octave_window = -1;
   po.ratio = options_.match_ratio;
-  const PointGrid grid(uv, camera_.width, camera_.height);
   std::vector<PointPrediction> predictions;
   for (const Eigen::Vector2d& c : centres) predictions.push_back({c, -1});
   for (const DescriptorMatch& m :
@@ -275,10 +274,12 @@ std::vector<Eigen::Vector2d> DynamicFilter::predictedPositions(const FrameFeatur
 // search, taken only with twice the support").
 DynamicFilter::CheckedMatches DynamicFilter::checkAdjacent(const FrameFeatures& before, const FrameFeatures& f,
                                                            const std::optional<SE3>& prior) const {
-  std::vector<Eigen::Vector2d> where_they_were;
+  std::vector<Eigen::Vector2d> uv, where_they_were;
+  for (const Keypoint& k : f.points) uv.push_back(k.uv);
   for (const Keypoint& k : before.points) where_they_were.push_back(k.uv);
+  const PointGrid grid(uv, camera_.width, camera_.height);  // one for both searches
   CheckedMatches at_old;
-  at_old.matches = matchAdjacent(before, f, where_they_were);
+  at_old.matches = matchAdjacent(before, f, grid, where_they_were);
   at_old.motion = checkMotion(at_old.matches.corr, camera_, options_.motion, prior);
   if (!prior || options_.predicted_search_px <= 0 || before.points.empty()) return at_old;
 
@@ -289,7 +290,7 @@ DynamicFilter::CheckedMatches DynamicFilter::checkAdjacent(const FrameFeatures& 
   if (shift[shift.size() / 2] <= options_.predicted_search_px) return at_old;
 
   CheckedMatches at_predicted;
-  at_predicted.matches = matchAdjacent(before, f, predicted);
+  at_predicted.matches = matchAdjacent(before, f, grid, predicted);
   at_predicted.motion = checkMotion(at_predicted.matches.corr, camera_, options_.motion, prior);
   at_predicted.searched_prediction = true;
   const bool predicted_better =

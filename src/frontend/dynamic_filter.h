@@ -40,6 +40,7 @@
 namespace plslam {
 
 class OptionTable;
+class PointGrid;
 
 /// Configuration keys: each field's key, doc string and range are where it is bound, in
 /// bindDynamicFilterOptions (frontend/option_keys.cpp). `plslam run --print-config` lists them.
@@ -140,7 +141,7 @@ class DynamicFilter {
     bool searched_prediction = false;  // matched around the predicted positions
     int gap = 0;                       // frames between the two (0: no earlier frame yet)
   };
-  AdjacentMatches matchAdjacent(const FrameFeatures& before, const FrameFeatures& f,
+  AdjacentMatches matchAdjacent(const FrameFeatures& before, const FrameFeatures& f, const PointGrid& grid,
                                 const std::vector<Eigen::Vector2d>& centres) const;
   std::vector<Eigen::Vector2d> predictedPositions(const FrameFeatures& before, const SE3& prior) const;
   CheckedMatches checkAdjacent(const FrameFeatures& before, const FrameFeatures& f, const std::optional<SE3>& prior) const;
