@@ -412,6 +412,13 @@ class MotionTests {
   double f_;
 };
 
+/// Checks every correspondence against the camera motion of `tests`.
+void judgeAll(const std::vector<MotionCorrespondence>& corr, const DepthSet& s, const MotionTests& tests,
+              MotionCheckResult& res) {
+  tests.rigid3d(s, res);
+  for (int i = 0; i < static_cast<int>(corr.size()); ++i) tests.single(corr[i], i, res);
+}
+
 MotionCheckResult checkMotionOnce(const std::vector<MotionCorrespondence>& corr, const PinholeCamera& cam,
                                   const MotionCheckOptions& o, const std::optional<SE3>& prior) {
   const int n_all = static_cast<int>(corr.size());
@@ -458,10 +465,7 @@ MotionCheckResult checkMotionOnce(const std::vector<MotionCorrespondence>& corr,
   res.status = MotionCheckStatus::kOk;
   res.T_cur_prev = T;
 
-  // Check every correspondence against the camera motion.
-  const MotionTests tests(cam, o, T, res.noise_scale);
-  tests.rigid3d(s, res);
-  for (int i = 0; i < n_all; ++i) tests.single(corr[i], i, res);
+  judgeAll(corr, s, MotionTests(cam, o, T, res.noise_scale), res);
   return res;
 }
 
@@ -474,6 +478,24 @@ MotionCheckResult checkMotion(const std::vector<MotionCorrespondence>& correspon
     if (options.prior_fallback) res = checkMotionOnce(correspondences, camera, options, std::nullopt);
     res.prior_rejected = true;
   }
+  return res;
+}
+
+MotionCheckResult judgeAgainstMotion(const std::vector<MotionCorrespondence>& correspondences,
+                                     const PinholeCamera& camera, const MotionCheckOptions& options,
+                                     const SE3& T_cur_prev, double noise_scale) {
+  MotionCheckResult res;
+  const size_t n = correspondences.size();
+  res.moving.assign(n, 0);
+  res.evidence.assign(n, MotionEvidence::kNone);
+  res.residual.assign(n, kNaN);
+  res.chi2.assign(n, kNaN);
+  const DepthSet s = buildDepthSet(correspondences, camera, options);
+  res.with_depth = static_cast<int>(s.p.size());
+  res.status = MotionCheckStatus::kOk;
+  res.T_cur_prev = T_cur_prev;
+  res.noise_scale = noise_scale;
+  judgeAll(correspondences, s, MotionTests(camera, options, T_cur_prev, noise_scale), res);
   return res;
 }
 

@@ -142,4 +142,11 @@ struct MotionCheckResult {
 MotionCheckResult checkMotion(const std::vector<MotionCorrespondence>& correspondences, const PinholeCamera& camera,
                               const MotionCheckOptions& options = {}, const std::optional<SE3>& prior = std::nullopt);
 
+/// Flags the correspondences that disagree with a camera motion already estimated (`T_cur_prev`
+/// and the `noise_scale` of checkMotion's result), by the same tests; no estimation. `inliers`
+/// counts those with depth on both sides that agree.
+MotionCheckResult judgeAgainstMotion(const std::vector<MotionCorrespondence>& correspondences,
+                                     const PinholeCamera& camera, const MotionCheckOptions& options,
+                                     const SE3& T_cur_prev, double noise_scale);
+
 }  // namespace plslam

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "core/profile.h"
 #include "core/error.h"
@@ -74,6 +75,7 @@ void DynamicFilterOptions::validate() const {
   require(compare_gap >= 1, "compare_gap", ">= 1", compare_gap);
   require(match_radius_px > 0, "match_radius_px", "> 0", match_radius_px);
   require(predicted_search_px >= 0, "predicted_search_px", ">= 0", predicted_search_px);
+  require(unmatched_search_px >= 0, "unmatched_search_px", ">= 0", unmatched_search_px);
   require(predicted_search_support >= 1, "predicted_search_support", ">= 1", predicted_search_support);
   require(match_ratio > 0 && match_ratio <= 1, "match_ratio", "in (0, 1]", match_ratio);
   require(match_max_distance >= 0 && match_max_distance <= 256, "match_max_distance", "in [0, 256]", match_max_distance);
@@ -219,23 +221,32 @@ Segmentation DynamicFilter::latestSegmentation(const RgbdFrame& frame, DynamicFr
   return carrier_.carry(&r->propagation);
 }
 
-// Each keypoint of the earlier frame is searched around `centres` (one per keypoint) among
-// the keypoints of `f`, whose positions `grid` holds.
+// Each keypoint of the earlier frame with a centre is searched within `radius_px` of it among
+// the keypoints of `f` (positions in `grid`) not `excluded`. `centres`: one per earlier
+// keypoint, NaN for none.
 DynamicFilter::AdjacentMatches DynamicFilter::matchAdjacent(const FrameFeatures& before, const FrameFeatures& f,
                                                             const PointGrid& grid,
-                                                            const std::vector<Eigen::Vector2d>& centres) const {
+                                                            const std::vector<Eigen::Vector2d>& centres,
+                                                            double radius_px, const std::vector<char>& excluded) const {
   AdjacentMatches out;
   if (f.points.empty() || before.points.empty()) return out;
+  std::vector<PointPrediction> predictions;
+  std::vector<int> earlier;  // per prediction
+  cv::Mat descriptors(0, 32, CV_8U);
+  for (size_t i = 0; i < centres.size(); ++i) {
+    if (!centres[i].allFinite()) continue;
+    predictions.push_back({centres[i], -1});
+    earlier.push_back(static_cast<int>(i));
+    descriptors.push_back(before.point_descriptors.row(static_cast<int>(i)));
+  }
   PointProjectionOptions po;
-  po.radius_px = options_.match_radius_px;
+  po.radius_px = radius_px;
   po.max_distance = options_.match_max_distance;
   po.octave_window = -1;
   po.ratio = options_.match_ratio;
-  std::vector<PointPrediction> predictions;
-  for (const Eigen::Vector2d& c : centres) predictions.push_back({c, -1});
-  for (const DescriptorMatch& m :
-       matchPointsByProjection(predictions, before.point_descriptors, grid, {}, f.point_descriptors, po)) {
-    const Keypoint& a = before.points[m.query];
+  for (const DescriptorMatch& m : matchPointsByProjection(predictions, descriptors, grid, {}, f.point_descriptors, po,
+                                                          excluded)) {
+    const Keypoint& a = before.points[earlier[m.query]];
     const Keypoint& b = f.points[m.train];
     MotionCorrespondence c;
     c.uv_prev = a.uv;
@@ -245,6 +256,7 @@ DynamicFilter::AdjacentMatches DynamicFilter::matchAdjacent(const FrameFeatures&
     c.pixel_sigma_scale = std::pow(1.2, b.octave);
     out.corr.push_back(c);
     out.keypoint.push_back(m.train);
+    out.earlier.push_back(earlier[m.query]);
   }
   return out;
 }
@@ -272,14 +284,13 @@ std::vector<Eigen::Vector2d> DynamicFilter::predictedPositions(const FrameFeatur
 // prediction found the crowd with 1.1-1.7 times the inliers of the old positions; on the fast
 // scene the prediction found 2.2-24 times (docs/RESULTS.md, "The prediction as a second
 // search, taken only with twice the support").
-DynamicFilter::CheckedMatches DynamicFilter::checkAdjacent(const FrameFeatures& before, const FrameFeatures& f,
-                                                           const std::optional<SE3>& prior) const {
-  std::vector<Eigen::Vector2d> uv, where_they_were;
-  for (const Keypoint& k : f.points) uv.push_back(k.uv);
+DynamicFilter::CheckedMatches DynamicFilter::bestAdjacentMatches(const FrameFeatures& before, const FrameFeatures& f,
+                                                                 const PointGrid& grid,
+                                                                 const std::optional<SE3>& prior) const {
+  std::vector<Eigen::Vector2d> where_they_were;
   for (const Keypoint& k : before.points) where_they_were.push_back(k.uv);
-  const PointGrid grid(uv, camera_.width, camera_.height);  // one for both searches
   CheckedMatches at_old;
-  at_old.matches = matchAdjacent(before, f, grid, where_they_were);
+  at_old.matches = matchAdjacent(before, f, grid, where_they_were, options_.match_radius_px);
   at_old.motion = checkMotion(at_old.matches.corr, camera_, options_.motion, prior);
   if (!prior || options_.predicted_search_px <= 0 || before.points.empty()) return at_old;
 
@@ -290,13 +301,50 @@ DynamicFilter::CheckedMatches DynamicFilter::checkAdjacent(const FrameFeatures& 
   if (shift[shift.size() / 2] <= options_.predicted_search_px) return at_old;
 
   CheckedMatches at_predicted;
-  at_predicted.matches = matchAdjacent(before, f, grid, predicted);
+  at_predicted.matches = matchAdjacent(before, f, grid, predicted, options_.match_radius_px);
   at_predicted.motion = checkMotion(at_predicted.matches.corr, camera_, options_.motion, prior);
   at_predicted.searched_prediction = true;
   const bool predicted_better =
       at_predicted.motion.ok() &&
       (!at_old.motion.ok() || at_predicted.motion.inliers >= options_.predicted_search_support * at_old.motion.inliers);
   return predicted_better ? at_predicted : at_old;
+}
+
+// Keypoints the search left unmatched get a verdict too: near walkers move farther between the
+// two frames than the search radius, and without a verdict of their own they became landmarks
+// (docs/RESULTS.md, "Why geometry alone fails in the crowd"). Once the camera motion is known,
+// each unmatched earlier keypoint is searched within `unmatched_search_px` of where that motion
+// puts it, and what it finds is judged by that motion: verdicts are added, the motion stays.
+void DynamicFilter::judgeUnmatched(const FrameFeatures& before, const FrameFeatures& f, const PointGrid& grid,
+                                   CheckedMatches* checked) const {
+  AdjacentMatches& matches = checked->matches;
+  MotionCheckResult& motion = checked->motion;
+  std::vector<char> taken(f.points.size(), 0);
+  for (int k : matches.keypoint) taken[k] = 1;
+  std::vector<Eigen::Vector2d> centres = predictedPositions(before, motion.T_cur_prev);
+  for (int e : matches.earlier) centres[e] = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
+  const AdjacentMatches late = matchAdjacent(before, f, grid, centres, options_.unmatched_search_px, taken);
+  const MotionCheckResult judged =
+      judgeAgainstMotion(late.corr, camera_, options_.motion, motion.T_cur_prev, motion.noise_scale);
+  auto append = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };
+  append(matches.corr, late.corr);
+  append(matches.keypoint, late.keypoint);
+  append(matches.earlier, late.earlier);
+  append(motion.moving, judged.moving);
+  append(motion.evidence, judged.evidence);
+  append(motion.residual, judged.residual);
+  append(motion.chi2, judged.chi2);
+  checked->judged_late = static_cast<int>(late.corr.size());
+}
+
+DynamicFilter::CheckedMatches DynamicFilter::checkAdjacent(const FrameFeatures& before, const FrameFeatures& f,
+                                                           const std::optional<SE3>& prior) const {
+  std::vector<Eigen::Vector2d> uv;
+  for (const Keypoint& k : f.points) uv.push_back(k.uv);
+  const PointGrid grid(uv, camera_.width, camera_.height);  // one for every search
+  CheckedMatches checked = bestAdjacentMatches(before, f, grid, prior);
+  if (checked.motion.ok() && options_.unmatched_search_px > 0) judgeUnmatched(before, f, grid, &checked);
+  return checked;
 }
 
 // Checks `f` against the oldest frame kept (compare_gap frames back once there are enough),
@@ -387,7 +435,7 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
                    " matched ", checked.gap, " frames back (", motion.with_depth, " with depth), motion ",
                    motionCheckStatusName(motion.status), " inliers ", motion.inliers, " moving ", motion.movingCount(),
                    motion.prior_used ? " prior" : "", motion.prior_won ? " prior_won" : "",
-                   motion.prior_rejected ? " prior_rejected" : "", checked.searched_prediction ? " at_prediction" : "",
+                   motion.prior_rejected ? " prior_rejected" : "", checked.searched_prediction ? " at_prediction" : "", " judged_late ", checked.judged_late,
                    "; rejected ", r.points_rejected, " points, ",
                    r.lines_rejected, " lines"));
   return r;

@@ -51,6 +51,7 @@ struct DynamicFilterOptions {
   double match_radius_px = 40.0;
   double predicted_search_px = 20.0;
   double predicted_search_support = 2.0;
+  double unmatched_search_px = 0.0;
   int match_max_distance = 60;
   float match_ratio = 0.7f;
   double line_masked_fraction = 0.3;
@@ -134,16 +135,23 @@ class DynamicFilter {
   struct AdjacentMatches {  // keypoint matches with the earlier frame
     std::vector<MotionCorrespondence> corr;
     std::vector<int> keypoint;  // per correspondence, its keypoint in the current frame
+    std::vector<int> earlier;   // per correspondence, its keypoint in the earlier frame
   };
   struct CheckedMatches {  // the matches the check used, and its verdict
     AdjacentMatches matches;
     MotionCheckResult motion;
     bool searched_prediction = false;  // matched around the predicted positions
+    int judged_late = 0;               // matches found at the estimated motion, judged by it
     int gap = 0;                       // frames between the two (0: no earlier frame yet)
   };
   AdjacentMatches matchAdjacent(const FrameFeatures& before, const FrameFeatures& f, const PointGrid& grid,
-                                const std::vector<Eigen::Vector2d>& centres) const;
+                                const std::vector<Eigen::Vector2d>& centres, double radius_px,
+                                const std::vector<char>& excluded = {}) const;
+  void judgeUnmatched(const FrameFeatures& before, const FrameFeatures& f, const PointGrid& grid,
+                      CheckedMatches* checked) const;
   std::vector<Eigen::Vector2d> predictedPositions(const FrameFeatures& before, const SE3& prior) const;
+  CheckedMatches bestAdjacentMatches(const FrameFeatures& before, const FrameFeatures& f, const PointGrid& grid,
+                                     const std::optional<SE3>& prior) const;
   CheckedMatches checkAdjacent(const FrameFeatures& before, const FrameFeatures& f, const std::optional<SE3>& prior) const;
   CheckedMatches checkAgainstHistory(const FrameFeatures& f, const std::optional<SE3>& prior_T_cur_prev);
   void workerLoop();

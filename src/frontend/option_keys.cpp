@@ -76,6 +76,8 @@ void bindDynamicFilterOptions(OptionTable* t, DynamicFilterOptions* o) {
           "when the tracker's prediction moves the earlier keypoints further than this (median, px), also match around the predicted positions, and take those matches where their motion has predicted_search_support times the inliers (0: never)");
   t->bind("dynamic.predicted_search_support", &d.predicted_search_support,
           "the matches around the prediction are taken only with at least this many times the inliers of those around the old positions (the prediction can help the check, not overrule it)");
+  t->bind("dynamic.unmatched_search_px", &d.unmatched_search_px,
+          "earlier keypoints the check left unmatched are searched this far (px) from where the estimated camera motion puts them, and judged by that motion (near walkers outrun match_radius_px; 0: never)");
   t->bind("dynamic.match_ratio", &d.match_ratio, "adjacent-frame matches need best < ratio * second-best Hamming distance (0.9 let repeated textures and edges give consistent mismatches)");
   t->bind("dynamic.match_max_distance", &d.match_max_distance, "ORB Hamming distance accepted for adjacent-frame matches");
   t->bind("dynamic.line_masked_fraction", &d.line_masked_fraction,
