@@ -139,3 +139,29 @@ TEST(BenchCli, MasksWithoutAModelForTheTumRowsAreRefusedBeforeAnyRun) {
   EXPECT_NE(r.out.find("yolov8n-seg-320.onnx"), std::string::npos) << "the missing model is named: " << r.out;
   EXPECT_FALSE(fs::exists(out + "/results.md")) << "nothing was run";
 }
+
+// Each seed is a rendering of its own (its row, its folder, its scene.txt), and the report
+// sums the seeds up; a seed list that says nothing is refused before any rendering.
+TEST(BenchCli, SyntheticSeedsGiveOneRowEachAndASummaryLine) {
+  const std::string out = test::scratchDir("bench_seeds");
+  const CliRun r = run("--runs 1 --sequential --scenes static --synthetic-frames 30 --synthetic-seeds 1-2 "
+                       "--shared /nonexistent --out '" + out + "'");
+  ASSERT_EQ(r.status, 0) << r.out;
+  const std::string md = readFile(out + "/results.md");
+  ASSERT_GE(tableRow(md, "synthetic_static_seed1").size(), 11u) << md;
+  ASSERT_GE(tableRow(md, "synthetic_static_seed2").size(), 11u) << md;
+  EXPECT_TRUE(tableRow(md, "synthetic_static").empty()) << md;
+  const std::string scene1 = readFile(out + "/synthetic_static_seed1/scene.txt");
+  const std::string scene2 = readFile(out + "/synthetic_static_seed2/scene.txt");
+  EXPECT_NE(scene1.find("seed 1"), std::string::npos) << scene1;
+  EXPECT_NE(scene2.find("seed 2"), std::string::npos) << scene2;
+  EXPECT_NE(md.find("- synthetic static over 2 seeds: ATE median "), std::string::npos) << md;
+
+  for (const char* bad : {"0", "3-1", "x", "1-"}) {
+    const CliRun refused = run(std::string("--runs 1 --scenes static --synthetic-seeds ") + bad +
+                               " --shared /nonexistent --out '" + out + "/bad'");
+    EXPECT_NE(refused.status, 0) << bad;
+    EXPECT_NE(refused.out.find("--synthetic-seeds"), std::string::npos) << refused.out;
+    EXPECT_FALSE(std::filesystem::exists(out + "/bad/synthetic_static_seed1")) << bad;
+  }
+}

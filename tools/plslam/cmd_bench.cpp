@@ -52,6 +52,7 @@ struct SequenceSpec {
   std::string dir;          ///< dataset folder (synthetic: filled once rendered)
   std::string camera_file;  ///< camera file
   synth::SceneKind scene = synth::SceneKind::kStatic;
+  uint64_t seed = 1;        ///< synthetic: textures and noise (synth::SceneOptions::seed)
 };
 
 /// One run's figures.
@@ -147,6 +148,29 @@ std::vector<std::string> splitList(const std::string& text) {
     if (!item.empty()) out.push_back(item);
   }
   return out;
+}
+
+/// "1-7", "1,3,5" or a mix: seeds of at least 1, in the order given, each once.
+std::vector<uint64_t> parseSeeds(const std::string& text) {
+  auto fail = [&text]() -> std::vector<uint64_t> {
+    throw ConfigError("--synthetic-seeds '" + text + "': give seeds of at least 1 as a list or ranges, e.g. 1-7 or 1,3,5");
+  };
+  auto number = [&](const std::string& t) -> uint64_t {
+    if (t.empty() || t.find_first_not_of("0123456789") != std::string::npos || t.size() > 9) fail();
+    const uint64_t v = std::stoull(t);
+    if (v < 1) fail();
+    return v;
+  };
+  std::vector<uint64_t> seeds;
+  for (const std::string& item : splitList(text)) {
+    const size_t dash = item.find('-');
+    const uint64_t lo = number(item.substr(0, dash)), hi = dash == std::string::npos ? lo : number(item.substr(dash + 1));
+    if (hi < lo || hi - lo >= 1000) fail();
+    for (uint64_t v = lo; v <= hi; ++v)
+      if (std::find(seeds.begin(), seeds.end(), v) == seeds.end()) seeds.push_back(v);
+  }
+  if (seeds.empty()) fail();
+  return seeds;
 }
 
 /// The camera file of a TUM folder from its name (fr1/freiburg1...); empty when unknown.
@@ -414,6 +438,7 @@ Json sequenceJson(const SequenceResult& s, const BenchSettings& settings) {
   for (const RunFigures& x : r) runs.push_back(runJson(x));
   return {{"sequence", s.spec.name},
           {"kind", s.spec.kind},
+          {"seed", s.spec.kind == "synthetic" ? Json(s.spec.seed) : Json(nullptr)},
           {"dynamic", dynamicLabel(settings, s.spec)},
           {"dataset", s.spec.dir},
           {"camera", s.spec.camera_file},
@@ -525,15 +550,21 @@ std::vector<SequenceSpec> benchRows(const Args& args, const BenchSettings& setti
       specs.push_back(s);
     }
   }
-  for (const synth::SceneKind kind : scenes) {
-    SequenceSpec s;
-    s.name = std::string("synthetic_") + synth::sceneKindName(kind);
-    s.kind = "synthetic";
-    s.dir = settings.out + "/" + s.name;
-    s.camera_file = s.dir + "/camera.xml";
-    s.scene = kind;
-    specs.push_back(s);
-  }
+  // One rendering of a scene is one draw of its textures and noise; with several seeds each
+  // is a row of its own (synthetic_<scene>_seed<N>), and seedSummary sums them up.
+  const bool seeded = args.has("synthetic-seeds");
+  const std::vector<uint64_t> seeds = seeded ? parseSeeds(args.str("synthetic-seeds")) : std::vector<uint64_t>{1};
+  for (const synth::SceneKind kind : scenes)
+    for (const uint64_t seed : seeds) {
+      SequenceSpec s;
+      s.name = std::string("synthetic_") + synth::sceneKindName(kind) + (seeded ? "_seed" + std::to_string(seed) : "");
+      s.kind = "synthetic";
+      s.dir = settings.out + "/" + s.name;
+      s.camera_file = s.dir + "/camera.xml";
+      s.scene = kind;
+      s.seed = seed;
+      specs.push_back(s);
+    }
   if (args.has("sequences")) {
     const std::vector<std::string> wanted = splitList(args.str("sequences"));
     std::vector<SequenceSpec> kept;
@@ -558,6 +589,35 @@ std::vector<SequenceSpec> benchRows(const Args& args, const BenchSettings& setti
 }
 
 /// Prints the tables and writes results.md and results.json.
+/// Per synthetic scene run with several seeds: the median and the worst of the rows' ATE
+/// (each row's own median over its runs), one line each.
+std::string seedSummary(const std::vector<SequenceResult>& results) {
+  std::string out;
+  std::vector<synth::SceneKind> done;
+  for (const SequenceResult& first : results) {
+    if (first.spec.kind != "synthetic" || std::count(done.begin(), done.end(), first.spec.scene)) continue;
+    done.push_back(first.spec.scene);
+    std::vector<double> ate;
+    std::string worst;
+    double worst_ate = -1;
+    for (const SequenceResult& r : results) {
+      if (r.spec.kind != "synthetic" || r.spec.scene != first.spec.scene) continue;
+      const double a = spread(collect(r.runs, [](const RunFigures& x) { return x.ate; })).median;
+      ate.push_back(a);
+      if (std::isfinite(a) && a > worst_ate) {
+        worst_ate = a;
+        worst = std::to_string(r.spec.seed);
+      }
+    }
+    if (ate.size() < 2) continue;
+    const Spread s = spread(ate);
+    out += "- synthetic " + std::string(synth::sceneKindName(first.spec.scene)) + " over " + std::to_string(ate.size()) +
+           " seeds: ATE median " + format("%.4f", s.median) + " m, worst " + format("%.4f", s.max) + " m (seed " +
+           worst + ")" + (s.count < static_cast<int>(ate.size()) ? ", some seeds without an ATE" : "") + "\n";
+  }
+  return out;
+}
+
 void writeBenchReport(const std::vector<SequenceResult>& results, const std::vector<std::string>& notes,
                       const BenchSettings& settings, const std::string& shared, double wall_s, bool interrupted) {
   const double peak_mb = peakRssMb();
@@ -582,6 +642,7 @@ void writeBenchReport(const std::vector<SequenceResult>& results, const std::vec
   for (size_t i = 0; i < results.size(); ++i)
     under << (i ? ", " : "") << results[i].spec.name << " " << format("%.1f", results[i].wall_s) << " s";
   under << "; total " << format("%.1f", wall_s) << " s.\n";
+  under << seedSummary(results);
   for (const std::string& n : notes) under << "- " << n << "\n";
   if (interrupted) under << "- interrupted by Ctrl-C: the table holds what was done\n";
 
@@ -603,6 +664,9 @@ void declareBenchOptions(Args& args, const std::string& default_shared) {
       .option("runs", "runs per sequence (the table gives the median with min and max)", "3")
       .option("synthetic-frames", "frames of each synthetic scene [default: the scene's own, 300; loop 450]")
       .option("scenes", "synthetic scenes, comma-separated: static, dynamic, loop, crowded; or none", "static")
+      .option("synthetic-seeds",
+              "render each synthetic scene with each of these seeds (textures and noise), one row each, "
+              "e.g. 1-7 or 1,3,5; the report adds each scene's median and worst ATE over them [default: 1]")
       .option("sequences", "only these rows, comma-separated (TUM folder names, synthetic_<scene>)")
       .option("config", "YAML run options (as plslam run --config)")
       .flag("no-lines", "points only: no line features")
@@ -622,7 +686,8 @@ void declareBenchOptions(Args& args, const std::string& default_shared) {
           "Synthetic scenes are rendered once into <out>/synthetic_<scene> and reused while scene.txt matches.\n"
           "Measure a Release build; the machine's load shows in the times.\n\n"
           "example: plslam bench --runs 3 --scenes static,dynamic --out maps/bench\n"
-          "         plslam bench --runs 3 --scenes dynamic,crowded --masks --out maps/bench_masks");
+          "         plslam bench --runs 3 --scenes dynamic,crowded --masks --out maps/bench_masks\n"
+          "         plslam bench --runs 1 --sequential --scenes crowded --synthetic-seeds 1-7 --out maps/seeds");
 }
 
 /// One row: the synthetic scene rendered (or reused) first, then its runs; an error is noted
@@ -636,6 +701,7 @@ SequenceResult benchRow(const SequenceSpec& spec, const BenchSettings& settings,
     if (spec.kind == "synthetic") {
       synth::SceneOptions scene_options;
       scene_options.frames = synthetic_frames > 0 ? synthetic_frames : synth::defaultFrameCount(spec.scene);
+      scene_options.seed = spec.seed;
       result.render_s = prepareSynthetic(synth::makeScene(spec.scene, scene_options), spec.dir, spec.name);
     }
     const auto runs_t0 = std::chrono::steady_clock::now();
