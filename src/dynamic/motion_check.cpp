@@ -412,6 +412,16 @@ class MotionTests {
   double f_;
 };
 
+/// A result for n correspondences, none checked yet.
+MotionCheckResult uncheckedResult(size_t n) {
+  MotionCheckResult res;
+  res.moving.assign(n, 0);
+  res.evidence.assign(n, MotionEvidence::kNone);
+  res.residual.assign(n, kNaN);
+  res.chi2.assign(n, kNaN);
+  return res;
+}
+
 /// Checks every correspondence against the camera motion of `tests`.
 void judgeAll(const std::vector<MotionCorrespondence>& corr, const DepthSet& s, const MotionTests& tests,
               MotionCheckResult& res) {
@@ -422,11 +432,7 @@ void judgeAll(const std::vector<MotionCorrespondence>& corr, const DepthSet& s, 
 MotionCheckResult checkMotionOnce(const std::vector<MotionCorrespondence>& corr, const PinholeCamera& cam,
                                   const MotionCheckOptions& o, const std::optional<SE3>& prior) {
   const int n_all = static_cast<int>(corr.size());
-  MotionCheckResult res;
-  res.moving.assign(n_all, 0);
-  res.evidence.assign(n_all, MotionEvidence::kNone);
-  res.residual.assign(n_all, kNaN);
-  res.chi2.assign(n_all, kNaN);
+  MotionCheckResult res = uncheckedResult(corr.size());
   res.prior_used = prior.has_value();
 
   const DepthSet s = buildDepthSet(corr, cam, o);
@@ -484,12 +490,7 @@ MotionCheckResult checkMotion(const std::vector<MotionCorrespondence>& correspon
 MotionCheckResult judgeAgainstMotion(const std::vector<MotionCorrespondence>& correspondences,
                                      const PinholeCamera& camera, const MotionCheckOptions& options,
                                      const SE3& T_cur_prev, double noise_scale) {
-  MotionCheckResult res;
-  const size_t n = correspondences.size();
-  res.moving.assign(n, 0);
-  res.evidence.assign(n, MotionEvidence::kNone);
-  res.residual.assign(n, kNaN);
-  res.chi2.assign(n, kNaN);
+  MotionCheckResult res = uncheckedResult(correspondences.size());
   const DepthSet s = buildDepthSet(correspondences, camera, options);
   res.with_depth = static_cast<int>(s.p.size());
   res.status = MotionCheckStatus::kOk;

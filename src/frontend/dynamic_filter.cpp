@@ -232,12 +232,17 @@ DynamicFilter::AdjacentMatches DynamicFilter::matchAdjacent(const FrameFeatures&
   if (f.points.empty() || before.points.empty()) return out;
   std::vector<PointPrediction> predictions;
   std::vector<int> earlier;  // per prediction
-  cv::Mat descriptors(0, 32, CV_8U);
   for (size_t i = 0; i < centres.size(); ++i) {
     if (!centres[i].allFinite()) continue;
     predictions.push_back({centres[i], -1});
     earlier.push_back(static_cast<int>(i));
-    descriptors.push_back(before.point_descriptors.row(static_cast<int>(i)));
+  }
+  // The earlier frame's descriptors as they are when every keypoint is searched (the usual
+  // case); only a subset is copied.
+  cv::Mat descriptors = before.point_descriptors;
+  if (earlier.size() < centres.size()) {
+    descriptors = cv::Mat(0, 32, CV_8U);
+    for (int i : earlier) descriptors.push_back(before.point_descriptors.row(i));
   }
   PointProjectionOptions po;
   po.radius_px = radius_px;

@@ -358,7 +358,6 @@ std::vector<DynamicFrameResult> runFastPan(const DynamicFilterOptions& options) 
   return out;
 }
 
-
 // Walker and static keypoints kept by the filter over frames of the crowded scene where the
 // near walkers cross the view fast, with the true camera motion as the tracker's prediction.
 struct KeptCounts {
@@ -406,8 +405,7 @@ TEST(DynamicFilterFastMotion, AFastPanIsCheckedAroundThePredictionAndTheStaticRo
   EXPECT_EQ(unguided_checked, 0);
 }
 
-
-// Frames 203-215 of the crowded scene: near walkers move farther over the check's gap than its
+// Frames 203-215 of the crowded scene (checked from the third frame of the 200-215 run): near walkers move farther over the check's gap than its
 // search radius, so most of their keypoints find no match and no verdict of their own.
 TEST(DynamicFilterUnmatched, WalkersThatOutrunTheSearchAreJudgedAtTheEstimatedMotion) {
   DynamicFilterOptions off;

@@ -588,7 +588,6 @@ std::vector<SequenceSpec> benchRows(const Args& args, const BenchSettings& setti
   return specs;
 }
 
-/// Prints the tables and writes results.md and results.json.
 /// Per synthetic scene run with several seeds: the median and the worst of the rows' ATE
 /// (each row's own median over its runs), one line each.
 std::string seedSummary(const std::vector<SequenceResult>& results) {
@@ -598,26 +597,24 @@ std::string seedSummary(const std::vector<SequenceResult>& results) {
     if (first.spec.kind != "synthetic" || std::count(done.begin(), done.end(), first.spec.scene)) continue;
     done.push_back(first.spec.scene);
     std::vector<double> ate;
-    std::string worst;
-    double worst_ate = -1;
+    std::vector<uint64_t> seed;  // per ATE
     for (const SequenceResult& r : results) {
       if (r.spec.kind != "synthetic" || r.spec.scene != first.spec.scene) continue;
-      const double a = spread(collect(r.runs, [](const RunFigures& x) { return x.ate; })).median;
-      ate.push_back(a);
-      if (std::isfinite(a) && a > worst_ate) {
-        worst_ate = a;
-        worst = std::to_string(r.spec.seed);
-      }
+      ate.push_back(spread(collect(r.runs, [](const RunFigures& x) { return x.ate; })).median);
+      seed.push_back(r.spec.seed);
     }
     if (ate.size() < 2) continue;
     const Spread s = spread(ate);
+    const auto worst = std::find(ate.begin(), ate.end(), s.max);  // NaN when no seed has an ATE: not found
     out += "- synthetic " + std::string(synth::sceneKindName(first.spec.scene)) + " over " + std::to_string(ate.size()) +
-           " seeds: ATE median " + format("%.4f", s.median) + " m, worst " + format("%.4f", s.max) + " m (seed " +
-           worst + ")" + (s.count < static_cast<int>(ate.size()) ? ", some seeds without an ATE" : "") + "\n";
+           " seeds: ATE median " + format("%.4f", s.median) + " m, worst " + format("%.4f", s.max) + " m" +
+           (worst != ate.end() ? " (seed " + std::to_string(seed[worst - ate.begin()]) + ")" : "") +
+           (s.count < static_cast<int>(ate.size()) ? ", some seeds without an ATE" : "") + "\n";
   }
   return out;
 }
 
+/// Prints the tables and writes results.md and results.json.
 void writeBenchReport(const std::vector<SequenceResult>& results, const std::vector<std::string>& notes,
                       const BenchSettings& settings, const std::string& shared, double wall_s, bool interrupted) {
   const double peak_mb = peakRssMb();
