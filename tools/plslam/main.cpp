@@ -6,6 +6,7 @@
 
 #include "args.h"
 #include "commands.h"
+#include "core/allocator.h"
 #include "core/error.h"
 
 namespace {
@@ -28,6 +29,7 @@ void usage(std::ostream& os) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  plslam::keepFreedMemoryForReuse();
   if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "help")) {
     usage(argc < 2 ? std::cerr : std::cout);
     return argc < 2 ? 2 : 0;

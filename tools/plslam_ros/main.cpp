@@ -6,10 +6,12 @@
 #include <exception>
 #include <thread>
 
+#include "core/allocator.h"
 #include "core/log.h"
 #include "ros_node.h"
 
 int main(int argc, char** argv) {
+  plslam::keepFreedMemoryForReuse();  // before any thread starts
   // SIGINT and SIGTERM are taken by sigwait below, on this thread; blocked before any
   // thread starts, so roscpp's and the SLAM threads inherit the mask and never see them.
   // A shell that starts the node in the background leaves SIGINT ignored, and an ignored
