@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/line_descriptor.hpp>
 #include <opencv2/ximgproc/fast_line_detector.hpp>
 
 #include "core/error.h"
 #include "core/log.h"
+#include "features/lbd.h"
 #include "features/orb_extractor.h"
 
 namespace plslam {
@@ -223,44 +223,23 @@ cv::Mat describeLines(const cv::Mat& image, const std::vector<LineSegment2D>& li
   o.validate();
   const cv::Mat grey = toGrey(image);
   if (lines.empty() || grey.empty()) return cv::Mat(0, 32, CV_8U);
-  using cv::line_descriptor::KeyLine;
   const double s = o.lbd_scale;
   cv::Mat img = grey;
   if (s < 1) cv::resize(grey, img, cv::Size(), s, s, cv::INTER_AREA);
-  std::vector<KeyLine> kls;
-  kls.reserve(lines.size());
-  for (size_t i = 0; i < lines.size(); ++i) {
+  std::vector<LbdSegment> segments;
+  segments.reserve(lines.size());
+  for (const LineSegment2D& line : lines) {
     // INTER_AREA maps pixel centres x -> (x + 0.5) * s - 0.5.
-    const Eigen::Vector2d p = (lines[i].p.array() + 0.5) * s - 0.5, q = (lines[i].q.array() + 0.5) * s - 0.5;
-    const double len = (q - p).norm();
-    KeyLine k;
-    // The image handed to compute() is octave 0: octave coordinates = image coordinates.
-    k.startPointX = k.sPointInOctaveX = static_cast<float>(p.x());
-    k.startPointY = k.sPointInOctaveY = static_cast<float>(p.y());
-    k.endPointX = k.ePointInOctaveX = static_cast<float>(q.x());
-    k.endPointY = k.ePointInOctaveY = static_cast<float>(q.y());
-    k.lineLength = static_cast<float>(len);
-    // LBD's support region runs numOfPixels samples (one per pixel) along the line: the whole length.
-    k.numOfPixels = std::max(1, static_cast<int>(std::lround(len)));
-    k.angle = static_cast<float>(std::atan2(q.y() - p.y(), q.x() - p.x()));
-    k.octave = 0;
-    // compute() indexes its internal table by class_id and writes row "class_id": it must be
-    // unique and dense, or rows are left uninitialised.
-    k.class_id = static_cast<int>(i);
-    k.pt = cv::Point2f(static_cast<float>(0.5 * (p.x() + q.x())), static_cast<float>(0.5 * (p.y() + q.y())));
-    k.size = static_cast<float>(std::abs((q.x() - p.x()) * (q.y() - p.y())));  // as OpenCV's detectors set it
-    k.response = static_cast<float>(len / std::max(img.cols, img.rows));
-    kls.push_back(k);
+    const Eigen::Vector2d p = (line.p.array() + 0.5) * s - 0.5, q = (line.q.array() + 0.5) * s - 0.5;
+    LbdSegment seg;
+    seg.start_x = static_cast<float>(p.x()), seg.start_y = static_cast<float>(p.y());
+    seg.end_x = static_cast<float>(q.x()), seg.end_y = static_cast<float>(q.y());
+    seg.angle = static_cast<float>(std::atan2(q.y() - p.y(), q.x() - p.x()));
+    // The support region runs one sample per pixel along the whole length.
+    seg.samples = std::max(1, static_cast<int>(std::lround((q - p).norm())));
+    segments.push_back(seg);
   }
-  cv::line_descriptor::BinaryDescriptor::Params params;
-  params.numOfOctave_ = 1;
-  cv::Mat desc;
-  // A fresh instance per call: compute() mutates the object (pyramid, gradients), so a
-  // shared one would not be thread-safe.
-  cv::line_descriptor::BinaryDescriptor::createBinaryDescriptor(params)->compute(img, kls, desc);
-  if (desc.rows != static_cast<int>(lines.size()) || desc.cols != 32 || desc.type() != CV_8U)
-    throw Error(str("features: LBD returned ", desc.rows, "x", desc.cols, " descriptors for ", lines.size(), " lines"));
-  return desc;
+  return describeLbd(img, segments);
 }
 
 }  // namespace plslam

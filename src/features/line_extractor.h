@@ -1,7 +1,7 @@
 // Line segments: LSD (OpenCV imgproc, optionally on a reduced image for speed), a merge of
 // collinear fragments (LSD over-segments: one physical edge comes out as several pieces),
 // clipping to the mask, a length filter and a cap on the count; LBD binary descriptors
-// (cv::line_descriptor::BinaryDescriptor on KeyLines built from the segments).
+// (features/lbd.h: OpenCV's BinaryDescriptor bits, computed faster).
 //
 // Stateless and deterministic. Thread safety: every function may be called concurrently.
 #pragma once
