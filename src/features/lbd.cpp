@@ -14,6 +14,7 @@ namespace {
 constexpr int kBands = 9;
 constexpr int kBandWidth = 7;
 constexpr int kRows = kBands * kBandWidth;  // height of the line support region
+constexpr int kPaddedRows = (kRows + 3) / 4 * 4;
 constexpr int kStatistics = 8;              // per band: means and deviations of 4 gradient parts
 constexpr int kFloats = kBands * kStatistics;
 constexpr int kBytes = 32;
@@ -40,13 +41,60 @@ const Weights& weights() {
   return w;
 }
 
-// std::round(x) clamped to [0, max] for the sample coordinates, without the library call.
-// Negative values all clamp to 0; for x >= 0, adding 0.5 in double is exact, so truncating
-// rounds half away from zero exactly as std::round does.
-inline int roundClamped(float x, int max) {
-  if (!(x > 0)) return 0;
-  if (x >= static_cast<float>(max)) return max;
-  return static_cast<int>(static_cast<double>(x) + 0.5);
+// Four floats or ints, one per row of the support region: the rows are independent, so four
+// of them advance together (GCC and Clang vector extensions; SSE2 on x86-64).
+using Floats4 = float __attribute__((vector_size(16)));
+using Ints4 = int __attribute__((vector_size(16)));
+
+Floats4 broadcast(float v) { return Floats4{v, v, v, v}; }
+
+// std::round(x) clamped to [0, max], lane by lane. x is clamped first (NaN and negatives to
+// 0), so the conversion stays in range; for 0 <= x, x - trunc(x) is exact in float, and
+// comparing it with 0.5 rounds half away from zero as std::round does.
+Ints4 roundClamped(Floats4 x, float max) {
+  const Floats4 zero = broadcast(0.f), top = broadcast(max);
+  x = x > zero ? x : zero;
+  x = x < top ? x : top;
+  const Ints4 whole = __builtin_convertvector(x, Ints4);
+  const Floats4 fraction = x - __builtin_convertvector(whole, Floats4);
+  return whole - (fraction >= broadcast(0.5f));  // a true comparison is -1
+}
+
+// The positive part of each lane: adding it, or adding the positive part of -v, gives the
+// sums of the reference's "if (v > 0) pos += v; else neg -= v" bit for bit (adding a zero
+// leaves a sum as it was, and adding -v is subtracting v), without its mispredicted branches.
+Floats4 positivePart(Floats4 v) { return v > broadcast(0.f) ? v : broadcast(0.f); }
+
+// Rows h..h+3 of the support region, starting at (x0[i], y0[i]): for each, the sums of the
+// positive and negative gradient projections along the line and across it.
+std::array<std::array<float, 4>, 4> rowSums(const cv::Mat& dx, const cv::Mat& dy, const float* x0, const float* y0,
+                                            float cos_a, float sin_a, int length) {
+  const float max_x = static_cast<float>(dx.cols - 1), max_y = static_cast<float>(dx.rows - 1);
+  const size_t stride = dx.step1();
+  const short* gx_image = dx.ptr<short>();
+  const short* gy_image = dy.ptr<short>();
+  const Floats4 c = broadcast(cos_a), s = broadcast(sin_a), minus_s = broadcast(-sin_a);
+  Floats4 x = {x0[0], x0[1], x0[2], x0[3]}, y = {y0[0], y0[1], y0[2], y0[3]};
+  Floats4 pos_l{}, neg_l{}, pos_o{}, neg_o{};
+  for (int w = 0; w < length; ++w) {
+    const Ints4 u = roundClamped(x, max_x), v = roundClamped(y, max_y);
+    Floats4 gx, gy;
+    for (int i = 0; i < 4; ++i) {
+      const size_t at = static_cast<size_t>(v[i]) * stride + static_cast<size_t>(u[i]);
+      gx[i] = gx_image[at];
+      gy[i] = gy_image[at];
+    }
+    const Floats4 along = gx * c + gy * s, across = gx * minus_s + gy * c;
+    pos_l += positivePart(along);
+    neg_l += positivePart(-along);
+    pos_o += positivePart(across);
+    neg_o += positivePart(-across);
+    x += c;
+    y += s;
+  }
+  std::array<std::array<float, 4>, 4> rows;
+  for (int i = 0; i < 4; ++i) rows[i] = {pos_l[i], neg_l[i], pos_o[i], neg_o[i]};
+  return rows;
 }
 
 // The four gradient sums of one band, and of their squares: along the line (L) and across
@@ -54,29 +102,6 @@ inline int roundClamped(float x, int max) {
 struct BandSums {
   std::array<float, 4> sum{}, sum2{};
 };
-
-// One row of the support region: the four sums of the gradient projections along it.
-std::array<float, 4> rowSums(const cv::Mat& dx, const cv::Mat& dy, float x, float y, float cos_a, float sin_a,
-                             int length) {
-  const int max_x = dx.cols - 1, max_y = dx.rows - 1;
-  float pos_l = 0, neg_l = 0, pos_o = 0, neg_o = 0;
-  for (int w = 0; w < length; ++w) {
-    const int u = roundClamped(x, max_x), v = roundClamped(y, max_y);
-    const float gx = dx.ptr<short>(v)[u], gy = dy.ptr<short>(v)[u];
-    const float along = gx * cos_a + gy * sin_a;
-    const float across = gx * -sin_a + gy * cos_a;
-    // Without branches (the signs are random, and mispredicted branches cost more than the
-    // rest of the loop). Adding a zero leaves a sum as it was, and adding -v is subtracting v,
-    // so the sums are those of the reference's if/else, bit for bit.
-    pos_l += std::max(along, 0.f);
-    neg_l += std::max(-along, 0.f);
-    pos_o += std::max(across, 0.f);
-    neg_o += std::max(-across, 0.f);
-    x += cos_a;
-    y += sin_a;
-  }
-  return {pos_l, neg_l, pos_o, neg_o};
-}
 
 void addRow(const std::array<float, 4>& row, float weight, BandSums* band) {
   for (int k = 0; k < 4; ++k) {
@@ -94,12 +119,19 @@ std::array<float, kFloats> bandStatistics(const cv::Mat& dx, const cv::Mat& dy, 
   const float mid_x = static_cast<float>(0.5 * (s.start_x + s.end_x));
   const float mid_y = static_cast<float>(0.5 * (s.start_y + s.end_y));
   const float cos_a = static_cast<float>(std::cos(s.angle)), sin_a = static_cast<float>(std::sin(s.angle));
-  float x0 = -cos_a * half_length + sin_a * half_height + mid_x;
-  float y0 = -sin_a * half_length - cos_a * half_height + mid_y;
+  // Where each row starts (one more than the region has, so that rows go by fours), stepped
+  // from the first as the reference steps them.
+  std::array<float, kPaddedRows> x0{}, y0{};
+  x0[0] = -cos_a * half_length + sin_a * half_height + mid_x;
+  y0[0] = -sin_a * half_length - cos_a * half_height + mid_y;
+  for (int h = 1; h < kPaddedRows; ++h) x0[h] = x0[h - 1] - sin_a, y0[h] = y0[h - 1] + cos_a;
+  std::array<std::array<float, 4>, kPaddedRows> rows;
+  for (int h = 0; h < kPaddedRows; h += 4) {
+    const auto four = rowSums(dx, dy, &x0[h], &y0[h], cos_a, sin_a, length);
+    std::copy(four.begin(), four.end(), rows.begin() + h);
+  }
   for (int h = 0; h < kRows; ++h) {
-    std::array<float, 4> row = rowSums(dx, dy, x0, y0, cos_a, sin_a, length);
-    x0 -= sin_a;
-    y0 += cos_a;
+    std::array<float, 4> row = rows[h];
     for (float& r : row) r *= wt.global[h];
     // A row counts for its own band and, less, for the bands on either side.
     const int band = h / kBandWidth, in_band = h % kBandWidth;
