@@ -32,12 +32,14 @@ void bindFeatureOptions(OptionTable* t, FeatureOptions* o) {
 }
 
 FeatureExtraction::FeatureExtraction(const RgbdFrame& frame, const cv::Mat& mask, const PinholeCamera& camera,
-                                     const FeatureOptions& options)
+                                     const FeatureOptions& options, WorkerThread* line_worker)
     : frame_(frame), mask_(mask), camera_(camera), options_(options) {
   if (frame.bgr.empty()) return;
   if (frame.bgr.channels() == 3) cv::cvtColor(frame.bgr, grey_, cv::COLOR_BGR2GRAY);
   else grey_ = frame.bgr;
-  if (options_.use_lines && options_.parallel) lines_ = std::async(std::launch::async, [this] { return runLines(); });
+  if (!options_.use_lines || !options_.parallel) return;
+  if (line_worker) lines_ = line_worker->submit([this] { return runLines(); });
+  else lines_ = std::async(std::launch::async, [this] { return runLines(); });
 }
 
 FeatureExtraction::~FeatureExtraction() {

@@ -10,6 +10,7 @@
 #include "core/map.h"
 #include "core/option_table.h"
 #include "core/profile.h"
+#include "core/worker_thread.h"
 #include "features/line_extractor.h"
 #include "features/orb_extractor.h"
 
@@ -32,9 +33,13 @@ void bindFeatureOptions(OptionTable* table, FeatureOptions* options);
 /// (on another thread when options.parallel), points() extracts the keypoints on the
 /// caller's thread, addLines() waits for the segments and appends them. `frame`, `mask`,
 /// `camera` and `options` must outlive the object. The result is the same as extractFeatures.
+/// `line_worker` (optional) runs the segments when options.parallel; without one, a thread
+/// is started for them (what a caller that extracts a frame now and then wants; a caller
+/// that extracts every frame of a stream should keep a WorkerThread and hand it in).
 class FeatureExtraction {
  public:
-  FeatureExtraction(const RgbdFrame& frame, const cv::Mat& mask, const PinholeCamera& camera, const FeatureOptions& options);
+  FeatureExtraction(const RgbdFrame& frame, const cv::Mat& mask, const PinholeCamera& camera, const FeatureOptions& options,
+                    WorkerThread* line_worker = nullptr);
   ~FeatureExtraction();  ///< waits for the line thread
   FeatureExtraction(const FeatureExtraction&) = delete;
   FeatureExtraction& operator=(const FeatureExtraction&) = delete;

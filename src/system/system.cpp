@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "core/thread_priority.h"
+#include "core/worker_thread.h"
 #include "dense/keyframe_cloud.h"
 #include "dynamic/semantic_labels.h"
 #include "place/vocabulary.h"
@@ -90,6 +91,9 @@ struct System::Pipeline {
   Tracker tracker;
   LocalMapper mapper;
   DynamicFilter dynamic;
+  /// Each frame's segments, beside its keypoints: one thread for the whole run rather than
+  /// one per frame (docs/RESULTS.md, "One thread for the segments, kept").
+  std::unique_ptr<WorkerThread> line_worker;
   BoundedQueue<KeyframeJob> queue;
   BoundedQueue<Id> loop_queue;   ///< keyframes the mapper finished, for the loop thread
   Map* map;                      ///< for storing the dense clouds
@@ -148,6 +152,7 @@ System::~System() {
 void System::start() {
   if (pipeline_->started) return;
   pipeline_->started = true;
+  pipeline_->line_worker = std::make_unique<WorkerThread>("plslam-lines");
   if (options_.sequential) return;
   const int nice = options_.background_nice;
   pipeline_->mapping_thread = std::thread([p = pipeline_.get(), nice] {
@@ -182,7 +187,7 @@ TrackingResult System::feed(const RgbdFrame& input, const cv::Mat& mask) {
   rec.t_ns = frame.t_ns;
   // The dynamic check needs only the keypoints: it runs while the other thread extracts
   // the segments, which are filtered with its mask once they are there.
-  FeatureExtraction extraction(frame, mask, camera_, options_.features);
+  FeatureExtraction extraction(frame, mask, camera_, options_.features, pipeline_->line_worker.get());
   FrameFeatures f = extraction.points(&rec.stages);
   DynamicFrameResult dyn;
   {
