@@ -22,17 +22,18 @@ constexpr int kBytes = 32;
 // Gaussian weights, computed as the reference implementation does (its integer divisions
 // included), then used as floats. Across the region: centre 31, sigma 31. Within the three
 // bands a row touches: centre 10, sigma 7.
+double gaussian(int i, double centre, double sigma) {
+  return std::exp((i - centre) * (i - centre) * (-1 / (2 * sigma * sigma)));
+}
+
 struct Weights {
   std::array<float, kRows> global{};
   std::array<float, 3 * kBandWidth> local{};
   Weights() {
     const double centre_local = (kBandWidth * 3 - 1) / 2, sigma_local = (kBandWidth * 2 + 1) / 2;
-    for (int i = 0; i < 3 * kBandWidth; ++i)
-      local[i] = static_cast<float>(std::exp((i - centre_local) * (i - centre_local) * (-1 / (2 * sigma_local * sigma_local))));
-    const double centre_global = (kRows - 1) / 2, sigma_global = centre_global;
-    for (int i = 0; i < kRows; ++i)
-      global[i] = static_cast<float>(
-          std::exp((i - centre_global) * (i - centre_global) * (-1 / (2 * sigma_global * sigma_global))));
+    for (int i = 0; i < 3 * kBandWidth; ++i) local[i] = static_cast<float>(gaussian(i, centre_local, sigma_local));
+    const double centre_global = (kRows - 1) / 2;
+    for (int i = 0; i < kRows; ++i) global[i] = static_cast<float>(gaussian(i, centre_global, centre_global));
   }
 };
 
