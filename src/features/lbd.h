@@ -8,7 +8,8 @@
 // and the line vocabulary made with either stay valid. It is written for speed: OpenCV's
 // version rounds each of the 63 x length samples with a libm call and branches on the sign
 // of each gradient; here four rows of the support region advance together, branch-free
-// (about 3 x faster on 150 segments; docs/RESULTS.md, "LBD without OpenCV's loop").
+// (the LBD stage on fr3: 1.6 ms against 6.3-6.4 ms; docs/RESULTS.md, "LBD without
+// OpenCV's loop").
 // Built with -ffp-contract=off: a fused multiply-add would change the bits.
 //
 // Stateless. Thread safety: may be called concurrently.
