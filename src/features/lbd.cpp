@@ -199,6 +199,8 @@ cv::Mat describeLbd(const cv::Mat& image, const std::vector<LbdSegment>& segment
   if (image.type() != CV_8UC1) throw Error("describeLbd: the image must be 8-bit grey");
   cv::Mat out(static_cast<int>(segments.size()), kBytes, CV_8U);
   if (segments.empty()) return out;
+  // The samples are clamped to the image: an empty one has no pixel to clamp them to.
+  if (image.empty()) throw Error("describeLbd: segments on an empty image");
   cv::Mat smooth, dx, dy;
   cv::GaussianBlur(image, smooth, cv::Size(5, 5), 1);
   cv::Sobel(smooth, dx, CV_16S, 1, 0, 3);

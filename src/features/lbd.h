@@ -28,7 +28,8 @@ struct LbdSegment {
 };
 
 /// 32-byte LBD descriptors (CV_8U, one row per segment) of `segments` on the 8-bit grey
-/// `image`. An empty list gives a 0 x 32 matrix.
+/// `image`. An empty list gives a 0 x 32 matrix. Throws Error for an image that is not 8-bit
+/// grey, for segments on an empty image and for a segment of fewer than one sample.
 cv::Mat describeLbd(const cv::Mat& image, const std::vector<LbdSegment>& segments);
 
 }  // namespace plslam

@@ -7,6 +7,8 @@
 #include <opencv2/line_descriptor.hpp>
 #include <random>
 
+#include "core/error.h"
+
 namespace plslam {
 namespace {
 
@@ -76,12 +78,13 @@ TEST(Lbd, GivesOpenCvsBitsOnRandomImagesAndSegments) {
   EXPECT_EQ(segments_compared, 8 * 150);
 }
 
-TEST(Lbd, AnEmptyListGivesNoRowsAndAColourImageOrAnEmptySegmentIsRefused) {
+TEST(Lbd, AnEmptyListGivesNoRowsAndAColourOrEmptyImageOrAnEmptySegmentIsRefused) {
   const cv::Mat grey(48, 64, CV_8U, cv::Scalar(128));
   const cv::Mat none = describeLbd(grey, {});
   EXPECT_EQ(none.rows, 0);
   EXPECT_EQ(none.cols, 32);
   EXPECT_THROW(describeLbd(cv::Mat(48, 64, CV_8UC3), {LbdSegment{}}), std::exception);
+  EXPECT_THROW(describeLbd(cv::Mat(0, 0, CV_8U), {LbdSegment{}}), Error);
   LbdSegment empty;
   empty.samples = 0;
   EXPECT_THROW(describeLbd(grey, {empty}), std::exception);

@@ -405,8 +405,9 @@ TEST(DynamicFilterFastMotion, AFastPanIsCheckedAroundThePredictionAndTheStaticRo
   EXPECT_EQ(unguided_checked, 0);
 }
 
-// Frames 203-215 of the crowded scene (checked from the third frame of the 200-215 run): near walkers move farther over the check's gap than its
-// search radius, so most of their keypoints find no match and no verdict of their own.
+// Frames 203-215 of the crowded scene (checked from the third frame of the 200-215 run):
+// near walkers move farther over the check's gap than its search radius, so most of their
+// keypoints find no match and no verdict of their own.
 TEST(DynamicFilterUnmatched, WalkersThatOutrunTheSearchAreJudgedAtTheEstimatedMotion) {
   DynamicFilterOptions off;
   off.unmatched_search_px = 0;
