@@ -256,7 +256,7 @@ class MotionSearch {
       if (check == SampleCheck::kDegenerate) continue;
       ++good_samples;  // a proper triangle, rigid or not
       if (check == SampleCheck::kNotRigid) continue;
-      const auto T = fitUniqueRigid({s_.p[k[0]], s_.p[k[1]], s_.p[k[2]]}, {s_.c[k[0]], s_.c[k[1]], s_.c[k[2]]});
+      const auto T = fitTriangleRigid({s_.p[k[0]], s_.p[k[1]], s_.p[k[2]]}, {s_.c[k[0]], s_.c[k[1]], s_.c[k[2]]});
       if (!T || (prior_ && !nearPrior(s_, *T, *prior_, o_))) continue;  // only hypotheses near the prior count
       ++iter;
       consider(*T, false);

@@ -1,7 +1,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <array>
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include "core/rigid_fit.h"
@@ -67,4 +69,35 @@ TEST(RigidFit, TooFewPairsOrNoWeightGiveNoFit) {
   EXPECT_FALSE(fitRigid(a, {a[0], a[1]}).has_value());
   EXPECT_FALSE(fitRigid(a, a, {0, 0, 0}).has_value());
   EXPECT_FALSE(fitRigid(a, a, {1, 1}).has_value());
+}
+
+TEST(RigidFit, ATrianglesClosedFormFitIsTheSvdsFit) {
+  // Noisy pairs, and pairs with one point thrown elsewhere (the best fit is then far from any
+  // rigid motion).
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> unit(0, 1);
+  const auto random_point = [&] { return Eigen::Vector3d(unit(rng), unit(rng), 3 + unit(rng)); };
+  for (int trial = 0; trial < 2000; ++trial) {
+    std::array<Eigen::Vector3d, 3> a, b;
+    for (int i = 0; i < 3; ++i) a[i] = random_point(), b[i] = kT * a[i] + 0.01 * (random_point() - Eigen::Vector3d(0, 0, 3));
+    if (trial % 3 == 0) b[trial % 2] = random_point();
+    const auto svd = fitUniqueRigid({a.begin(), a.end()}, {b.begin(), b.end()});
+    const auto closed = fitTriangleRigid(a, b);
+    ASSERT_EQ(svd.has_value(), closed.has_value()) << "trial " << trial;
+    if (!svd) continue;
+    EXPECT_LT((svd->matrix() - closed->matrix()).cwiseAbs().maxCoeff(), 1e-9) << "trial " << trial;
+    EXPECT_NEAR(closed->rotation().determinant(), 1.0, 1e-12);
+  }
+}
+
+TEST(RigidFit, ATriangleFitRecoversAMotionAndRefusesADegenerateTriangle) {
+  const std::array<Eigen::Vector3d, 3> a = {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 0, 2), Eigen::Vector3d(0, 1, 3)};
+  const std::array<Eigen::Vector3d, 3> b = {kT * a[0], kT * a[1], kT * a[2]};
+  const auto fit = fitTriangleRigid(a, b);
+  ASSERT_TRUE(fit.has_value());
+  EXPECT_LT((fit->matrix() - kT.matrix()).norm(), 1e-9);
+  const std::array<Eigen::Vector3d, 3> line = {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, 2), Eigen::Vector3d(0, 0, 4)};
+  EXPECT_FALSE(fitTriangleRigid(line, b).has_value());
+  EXPECT_FALSE(fitTriangleRigid(a, {kT * line[0], kT * line[1], kT * line[2]}).has_value());
+  EXPECT_FALSE(fitTriangleRigid(a, {b[0], b[0], b[0]}).has_value());
 }
