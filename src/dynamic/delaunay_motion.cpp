@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "dynamic/delaunay_graph.h"
 
 namespace plslam {
 
@@ -31,27 +32,19 @@ struct UnionFind {
 
 int64_t edgeKey(int a, int b) { return (static_cast<int64_t>(std::min(a, b)) << 32) | static_cast<uint32_t>(std::max(a, b)); }
 
-/// Current pixel -> correspondence, for mapping the subdivision's vertices back.
-using VertexMap = std::map<std::pair<float, float>, int>;
-
-int lookup(const VertexMap& vertex_of, float x, float y) {
-  const auto it = vertex_of.find({x, y});
-  return it == vertex_of.end() ? -1 : it->second;
-}
-
 /// 1. Vertices: depth in both frames, current pixel inside the image, one per pixel position.
-std::vector<int> collectVertices(const std::vector<MotionCorrespondence>& corr, const PinholeCamera& cam,
-                                 VertexMap* vertex_of) {
-  std::vector<int> nodes;
+DelaunayGraph triangulateCorrespondences(const std::vector<MotionCorrespondence>& corr, const PinholeCamera& cam) {
+  std::vector<cv::Point2f> pixels;
+  std::vector<int> index;
   for (int i = 0; i < static_cast<int>(corr.size()); ++i) {
     const auto& c = corr[i];
     if (!c.hasDepthPrev() || !c.hasDepthCur() || !c.uv_cur.allFinite()) continue;
     const cv::Point2f pt(static_cast<float>(c.uv_cur.x()), static_cast<float>(c.uv_cur.y()));
     if (pt.x < 0 || pt.y < 0 || pt.x >= cam.width || pt.y >= cam.height) continue;
-    if (!vertex_of->emplace(std::make_pair(pt.x, pt.y), i).second) continue;
-    nodes.push_back(i);
+    pixels.push_back(pt);
+    index.push_back(i);
   }
-  return nodes;
+  return triangulateFeatures(pixels, index, cv::Size(cam.width, cam.height));
 }
 
 /// 2. The camera motion: the caller's check, or one run here into `own`.
@@ -74,22 +67,16 @@ const MotionCheckResult* referenceMotion(const std::vector<MotionCorrespondence>
 
 /// 3. Edges: the length test; also each vertex's fraction of broken incident edges.
 void testEdges(const std::vector<MotionCorrespondence>& corr, const PinholeCamera& cam, const DelaunayMotionOptions& o,
-               const std::vector<int>& nodes, cv::Subdiv2D& subdiv, const VertexMap& vertex_of,
-               DelaunayMotionResult* res) {
+               const DelaunayGraph& graph, DelaunayMotionResult* res) {
   const int n_all = static_cast<int>(corr.size());
   const PointNoiseOptions& noise = o.motion.noise;
   std::vector<Eigen::Matrix3d> cov_p(n_all), cov_c(n_all);
-  for (int i : nodes) {
+  for (int i : graph.vertices) {
     cov_p[i] = pointCovariance(cam, corr[i].uv_prev, corr[i].p_prev.z(), noise, corr[i].pixel_sigma_scale);
     cov_c[i] = pointCovariance(cam, corr[i].uv_cur, corr[i].p_cur.z(), noise, corr[i].pixel_sigma_scale);
   }
-  std::vector<cv::Vec4f> edge_list;
-  subdiv.getEdgeList(edge_list);
-  std::unordered_set<int64_t> seen;
   std::vector<int> incident(n_all, 0), broken_incident(n_all, 0);
-  for (const auto& e : edge_list) {
-    const int a = lookup(vertex_of, e[0], e[1]), b = lookup(vertex_of, e[2], e[3]);  // -1: a virtual outer vertex
-    if (a < 0 || b < 0 || a == b || !seen.insert(edgeKey(a, b)).second) continue;
+  for (const auto& [a, b] : graph.edges) {
     DelaunayEdge d;
     d.a = std::min(a, b);
     d.b = std::max(a, b);
@@ -108,7 +95,7 @@ void testEdges(const std::vector<MotionCorrespondence>& corr, const PinholeCamer
       broken_incident[v] += d.broken;
     }
   }
-  for (int i : nodes)
+  for (int i : graph.vertices)
     if (incident[i] > 0) res->broken_fraction[i] = static_cast<float>(broken_incident[i]) / incident[i];
 }
 
@@ -116,17 +103,13 @@ void testEdges(const std::vector<MotionCorrespondence>& corr, const PinholeCamer
 /// keep their mutual edges (and from any other group that large: the background split by an
 /// object). Groups over rigid triangles (three kept edges): single kept edges leak more, as a
 /// point moving across an edge keeps its length.
-void flagOutsideRigidGroups(const DelaunayMotionOptions& o, const std::vector<int>& nodes, cv::Subdiv2D& subdiv,
-                            const VertexMap& vertex_of, DelaunayMotionResult* res) {
+void flagOutsideRigidGroups(const DelaunayMotionOptions& o, const DelaunayGraph& graph, DelaunayMotionResult* res) {
+  const std::vector<int>& nodes = graph.vertices;
   UnionFind together(static_cast<int>(res->moving.size()));
   std::unordered_set<int64_t> kept;
   for (const auto& e : res->edges)
     if (!e.broken) kept.insert(edgeKey(e.a, e.b));
-  std::vector<cv::Vec6f> triangles;
-  subdiv.getTriangleList(triangles);
-  for (const auto& t : triangles) {
-    const int v[3] = {lookup(vertex_of, t[0], t[1]), lookup(vertex_of, t[2], t[3]), lookup(vertex_of, t[4], t[5])};
-    if (v[0] < 0 || v[1] < 0 || v[2] < 0) continue;
+  for (const auto& v : graph.triangles) {
     if (!kept.count(edgeKey(v[0], v[1])) || !kept.count(edgeKey(v[1], v[2])) || !kept.count(edgeKey(v[0], v[2]))) continue;
     together.unite(v[0], v[1]);
     together.unite(v[0], v[2]);
@@ -142,14 +125,13 @@ void flagOutsideRigidGroups(const DelaunayMotionOptions& o, const std::vector<in
 /// 5. Regions: moving features joined by kept edges on one surface, with their hulls and the
 /// Delaunay triangles inside them.
 void buildRegions(const std::vector<MotionCorrespondence>& corr, const DelaunayMotionOptions& o,
-                  const std::vector<int>& nodes, cv::Subdiv2D& subdiv, const VertexMap& vertex_of,
-                  DelaunayMotionResult* res) {
+                  const DelaunayGraph& graph, DelaunayMotionResult* res) {
   UnionFind region(static_cast<int>(corr.size()));
   for (const auto& e : res->edges)
     if (!e.broken && res->moving[e.a] && res->moving[e.b] && o.region_surface.joins(corr[e.a].p_cur.z(), corr[e.b].p_cur.z()))
       region.unite(e.a, e.b);
   std::map<int, std::vector<int>> members_of;
-  for (int i : nodes)
+  for (int i : graph.vertices)
     if (res->moving[i]) members_of[region.find(i)].push_back(i);
   std::map<int, size_t> index_of;  // region root -> index in res.regions
   for (auto& [root, members] : members_of) {
@@ -163,16 +145,14 @@ void buildRegions(const std::vector<MotionCorrespondence>& corr, const DelaunayM
     res->regions.push_back(std::move(r));
   }
   if (index_of.empty()) return;
-  std::vector<cv::Vec6f> triangles;
-  subdiv.getTriangleList(triangles);
-  for (const auto& t : triangles) {
-    const int v[3] = {lookup(vertex_of, t[0], t[1]), lookup(vertex_of, t[2], t[3]), lookup(vertex_of, t[4], t[5])};
-    if (v[0] < 0 || v[1] < 0 || v[2] < 0 || !res->moving[v[0]] || !res->moving[v[1]] || !res->moving[v[2]]) continue;
+  for (size_t k = 0; k < graph.triangles.size(); ++k) {
+    const auto& v = graph.triangles[k];
+    if (!res->moving[v[0]] || !res->moving[v[1]] || !res->moving[v[2]]) continue;
     const int root = region.find(v[0]);
     if (region.find(v[1]) != root || region.find(v[2]) != root) continue;
     const auto it = index_of.find(root);
     if (it == index_of.end()) continue;
-    res->regions[it->second].triangles.push_back({cv::Point2f(t[0], t[1]), cv::Point2f(t[2], t[3]), cv::Point2f(t[4], t[5])});
+    res->regions[it->second].triangles.push_back(graph.triangle_pixels[k]);
   }
 }
 
@@ -201,27 +181,22 @@ DelaunayMotionResult analyseDelaunayMotion(const std::vector<MotionCorrespondenc
   res.moving.assign(n_all, 0);
   res.broken_fraction.assign(n_all, std::numeric_limits<float>::quiet_NaN());
 
-  VertexMap vertex_of;
-  const std::vector<int> nodes = collectVertices(corr, cam, &vertex_of);
-  if (nodes.size() < 3) return res;
-  cv::Subdiv2D subdiv(cv::Rect(0, 0, cam.width, cam.height));
-  for (int i : nodes) {
-    res.in_graph[i] = 1;
-    subdiv.insert(cv::Point2f(static_cast<float>(corr[i].uv_cur.x()), static_cast<float>(corr[i].uv_cur.y())));
-  }
+  const DelaunayGraph graph = triangulateCorrespondences(corr, cam);
+  if (graph.vertices.size() < 3) return res;
+  for (int i : graph.vertices) res.in_graph[i] = 1;
 
   MotionCheckResult own;
   motion = referenceMotion(corr, cam, o, motion, &own, &res);
-  testEdges(corr, cam, o, nodes, subdiv, vertex_of, &res);
+  testEdges(corr, cam, o, graph, &res);
 
   // 4. Moving features: the check's flags, or without a camera motion the rigid groups'.
   if (res.reference) {
-    for (int i : nodes) res.moving[i] = motion->moving[i];
+    for (int i : graph.vertices) res.moving[i] = motion->moving[i];
   } else {
-    flagOutsideRigidGroups(o, nodes, subdiv, vertex_of, &res);
+    flagOutsideRigidGroups(o, graph, &res);
   }
 
-  buildRegions(corr, o, nodes, subdiv, vertex_of, &res);
+  buildRegions(corr, o, graph, &res);
   return res;
 }
 

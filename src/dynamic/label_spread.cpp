@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <opencv2/imgproc.hpp>
 
 #include "core/error.h"
 #include "core/log.h"
+#include "dynamic/delaunay_graph.h"
 
 namespace plslam {
 
@@ -19,32 +19,26 @@ LabelSpreadResult spreadMotionLabels(const std::vector<Eigen::Vector2d>& uv, con
   res.labels = labels;
 
   // 1. The graph: features with depth inside the image (one vertex per distinct pixel).
-  std::map<std::pair<float, float>, int> vertex_of;
-  cv::Subdiv2D subdiv(cv::Rect(0, 0, size.width, size.height));
+  std::vector<cv::Point2f> pixels;
+  std::vector<int> index;
   for (size_t i = 0; i < n; ++i) {
     if (!std::isfinite(depth[i]) || depth[i] <= 0 || !uv[i].allFinite()) continue;
     const cv::Point2f p(static_cast<float>(uv[i].x()), static_cast<float>(uv[i].y()));
     if (p.x < 0 || p.y < 0 || p.x >= size.width || p.y >= size.height) continue;
-    if (!vertex_of.emplace(std::make_pair(p.x, p.y), static_cast<int>(i)).second) continue;
-    subdiv.insert(p);
+    pixels.push_back(p);
+    index.push_back(static_cast<int>(i));
   }
-  if (vertex_of.size() < 3) return res;
+  const DelaunayGraph graph = triangulateFeatures(pixels, index, size);
   std::vector<std::vector<int>> neighbours(n);
-  std::vector<cv::Vec4f> edges;
-  subdiv.getEdgeList(edges);
-  for (const auto& e : edges) {
-    const auto ia = vertex_of.find({e[0], e[1]}), ib = vertex_of.find({e[2], e[3]});
-    if (ia == vertex_of.end() || ib == vertex_of.end()) continue;  // a virtual outer vertex
-    const int a = ia->second, b = ib->second;
-    if (a == b || std::hypot(e[2] - e[0], e[3] - e[1]) > o.max_edge_px) continue;
+  for (const auto& [a, b] : graph.edges) {
+    const cv::Point2f pa(static_cast<float>(uv[a].x()), static_cast<float>(uv[a].y()));
+    const cv::Point2f pb(static_cast<float>(uv[b].x()), static_cast<float>(uv[b].y()));
+    if (std::hypot(pb.x - pa.x, pb.y - pa.y) > o.max_edge_px) continue;
     if (!o.surface.joins(depth[a], depth[b])) continue;
     neighbours[a].push_back(b);
     neighbours[b].push_back(a);
   }
-  for (auto& list : neighbours) {  // each edge appears twice in a quad-edge list
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
-  }
+  for (auto& list : neighbours) std::sort(list.begin(), list.end());  // for the binary search of step 4
   auto count = [&](const std::vector<int8_t>& l, size_t i, int8_t value) {
     return static_cast<int>(std::count_if(neighbours[i].begin(), neighbours[i].end(), [&](int j) { return l[j] == value; }));
   };
@@ -74,18 +68,11 @@ LabelSpreadResult spreadMotionLabels(const std::vector<Eigen::Vector2d>& uv, con
 
   // 4. The moving area.
   auto joined = [&](int a, int b) { return std::binary_search(neighbours[a].begin(), neighbours[a].end(), b); };
-  std::vector<cv::Vec6f> triangles;
-  subdiv.getTriangleList(triangles);
-  for (const auto& t : triangles) {
-    int v[3];
-    bool moving = true;
-    for (int k = 0; k < 3 && moving; ++k) {
-      const auto it = vertex_of.find({t[2 * k], t[2 * k + 1]});
-      v[k] = it == vertex_of.end() ? -1 : it->second;
-      moving = v[k] >= 0 && res.labels[v[k]] == 1;
-    }
-    if (moving && joined(v[0], v[1]) && joined(v[1], v[2]) && joined(v[0], v[2]))
-      res.moving_triangles.push_back({cv::Point2f(t[0], t[1]), cv::Point2f(t[2], t[3]), cv::Point2f(t[4], t[5])});
+  for (size_t k = 0; k < graph.triangles.size(); ++k) {
+    const auto& v = graph.triangles[k];
+    if (res.labels[v[0]] == 1 && res.labels[v[1]] == 1 && res.labels[v[2]] == 1 && joined(v[0], v[1]) &&
+        joined(v[1], v[2]) && joined(v[0], v[2]))
+      res.moving_triangles.push_back(graph.triangle_pixels[k]);
   }
   return res;
 }
