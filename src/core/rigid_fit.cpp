@@ -63,7 +63,8 @@ std::optional<PlaneFrame> planeOf(const std::array<Eigen::Vector3d, 3>& p) {
 }
 }  // namespace
 
-std::optional<SE3> fitTriangleRigid(const std::array<Eigen::Vector3d, 3>& src, const std::array<Eigen::Vector3d, 3>& dst) {
+std::optional<SE3> fitTriangleRigid(const std::array<Eigen::Vector3d, 3>& src,
+                                    const std::array<Eigen::Vector3d, 3>& dst) {
   const std::optional<PlaneFrame> fs = planeOf(src), fd = planeOf(dst);
   if (!fs || !fd) return std::nullopt;
   const Eigen::Vector3d cs = (src[0] + src[1] + src[2]) / 3.0, cd = (dst[0] + dst[1] + dst[2]) / 3.0;

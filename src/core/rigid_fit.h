@@ -32,8 +32,9 @@ std::optional<SE3> fitUniqueRigid(const std::vector<Eigen::Vector3d>& src, const
 /// fitUniqueRigid for exactly three pairs, in closed form and about five times faster (the
 /// motion check fits thousands of minimal samples a frame). Three centred points span a plane,
 /// so the least-squares rotation takes the source triangle's plane onto the destination's and
-/// is a 2-D Procrustes rotation within it: the same optimum as the SVD, to rounding. nullopt when either triangle is degenerate or the fit is
-/// not fixed (fitRigid's rank below 2).
-std::optional<SE3> fitTriangleRigid(const std::array<Eigen::Vector3d, 3>& src, const std::array<Eigen::Vector3d, 3>& dst);
+/// is a 2-D Procrustes rotation within it: the same optimum as the SVD, to rounding. nullopt
+/// when either triangle is degenerate or the fit is not fixed (fitRigid's rank below 2).
+std::optional<SE3> fitTriangleRigid(const std::array<Eigen::Vector3d, 3>& src,
+                                    const std::array<Eigen::Vector3d, 3>& dst);
 
 }  // namespace plslam

@@ -21,10 +21,13 @@ uint64_t pixelKey(float x, float y) {
   return (static_cast<uint64_t>(bx) << 32) | by;
 }
 
-int64_t edgeKey(int a, int b) { return (static_cast<int64_t>(std::min(a, b)) << 32) | static_cast<uint32_t>(std::max(a, b)); }
+int64_t edgeKey(int a, int b) {
+  return (static_cast<int64_t>(std::min(a, b)) << 32) | static_cast<uint32_t>(std::max(a, b));
+}
 }  // namespace
 
-DelaunayGraph triangulateFeatures(const std::vector<cv::Point2f>& pixels, const std::vector<int>& index, cv::Size image) {
+DelaunayGraph triangulateFeatures(const std::vector<cv::Point2f>& pixels, const std::vector<int>& index,
+                                  cv::Size image) {
   if (pixels.size() != index.size())
     throw DataError(str("Delaunay graph: ", pixels.size(), " pixels and ", index.size(), " indices"));
   DelaunayGraph g;

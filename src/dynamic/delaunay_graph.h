@@ -1,8 +1,7 @@
 // The Delaunay triangulation of feature pixels, by feature index: what the label spreading
 // and the Delaunay motion check both build every frame. OpenCV's Subdiv2D triangulates and
 // lists edges and triangles by their corners' coordinates; those are mapped back to the
-// caller's indices through one hash table (an ordered map per lookup cost more than the
-// triangulation's own bookkeeping).
+// caller's indices through one hash table of the inserted pixels.
 #pragma once
 
 #include <array>
@@ -27,6 +26,7 @@ struct DelaunayGraph {
 /// pixel equal to an earlier one is left out (the earlier one stands for both). Edges and
 /// triangles touching Subdiv2D's virtual outer vertices are left out. Fewer than three
 /// distinct pixels: vertices only. Throws DataError when the two lists differ in length.
-DelaunayGraph triangulateFeatures(const std::vector<cv::Point2f>& pixels, const std::vector<int>& index, cv::Size image);
+DelaunayGraph triangulateFeatures(const std::vector<cv::Point2f>& pixels, const std::vector<int>& index,
+                                  cv::Size image);
 
 }  // namespace plslam

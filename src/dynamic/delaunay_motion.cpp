@@ -32,7 +32,8 @@ struct UnionFind {
 
 int64_t edgeKey(int a, int b) { return (static_cast<int64_t>(std::min(a, b)) << 32) | static_cast<uint32_t>(std::max(a, b)); }
 
-/// 1. Vertices: depth in both frames, current pixel inside the image, one per pixel position.
+/// 1. The graph: correspondences with depth in both frames and the current pixel inside the
+/// image, one vertex per pixel position.
 DelaunayGraph triangulateCorrespondences(const std::vector<MotionCorrespondence>& corr, const PinholeCamera& cam) {
   std::vector<cv::Point2f> pixels;
   std::vector<int> index;

@@ -79,7 +79,10 @@ TEST(RigidFit, ATrianglesClosedFormFitIsTheSvdsFit) {
   const auto random_point = [&] { return Eigen::Vector3d(unit(rng), unit(rng), 3 + unit(rng)); };
   for (int trial = 0; trial < 2000; ++trial) {
     std::array<Eigen::Vector3d, 3> a, b;
-    for (int i = 0; i < 3; ++i) a[i] = random_point(), b[i] = kT * a[i] + 0.01 * (random_point() - Eigen::Vector3d(0, 0, 3));
+    for (int i = 0; i < 3; ++i) {
+      a[i] = random_point();
+      b[i] = kT * a[i] + 0.01 * (random_point() - Eigen::Vector3d(0, 0, 3));
+    }
     if (trial % 3 == 0) b[trial % 2] = random_point();
     const auto svd = fitUniqueRigid({a.begin(), a.end()}, {b.begin(), b.end()});
     const auto closed = fitTriangleRigid(a, b);
@@ -91,12 +94,14 @@ TEST(RigidFit, ATrianglesClosedFormFitIsTheSvdsFit) {
 }
 
 TEST(RigidFit, ATriangleFitRecoversAMotionAndRefusesADegenerateTriangle) {
-  const std::array<Eigen::Vector3d, 3> a = {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 0, 2), Eigen::Vector3d(0, 1, 3)};
+  const std::array<Eigen::Vector3d, 3> a = {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 0, 2),
+                                            Eigen::Vector3d(0, 1, 3)};
   const std::array<Eigen::Vector3d, 3> b = {kT * a[0], kT * a[1], kT * a[2]};
   const auto fit = fitTriangleRigid(a, b);
   ASSERT_TRUE(fit.has_value());
   EXPECT_LT((fit->matrix() - kT.matrix()).norm(), 1e-9);
-  const std::array<Eigen::Vector3d, 3> line = {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, 2), Eigen::Vector3d(0, 0, 4)};
+  const std::array<Eigen::Vector3d, 3> line = {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, 2),
+                                               Eigen::Vector3d(0, 0, 4)};
   EXPECT_FALSE(fitTriangleRigid(line, b).has_value());
   EXPECT_FALSE(fitTriangleRigid(a, {kT * line[0], kT * line[1], kT * line[2]}).has_value());
   EXPECT_FALSE(fitTriangleRigid(a, {b[0], b[0], b[0]}).has_value());
