@@ -20,10 +20,6 @@ uint64_t pixelKey(float x, float y) {
   std::memcpy(&by, &y, sizeof by);
   return (static_cast<uint64_t>(bx) << 32) | by;
 }
-
-int64_t edgeKey(int a, int b) {
-  return (static_cast<int64_t>(std::min(a, b)) << 32) | static_cast<uint32_t>(std::max(a, b));
-}
 }  // namespace
 
 DelaunayGraph triangulateFeatures(const std::vector<cv::Point2f>& pixels, const std::vector<int>& index,
@@ -52,7 +48,7 @@ DelaunayGraph triangulateFeatures(const std::vector<cv::Point2f>& pixels, const 
   std::unordered_set<int64_t> seen;
   for (const cv::Vec4f& e : edge_list) {
     const int a = lookup(e[0], e[1]), b = lookup(e[2], e[3]);
-    if (a < 0 || b < 0 || a == b || !seen.insert(edgeKey(a, b)).second) continue;
+    if (a < 0 || b < 0 || a == b || !seen.insert(undirectedEdgeKey(a, b)).second) continue;
     g.edges.push_back({a, b});
   }
   std::vector<cv::Vec6f> triangle_list;

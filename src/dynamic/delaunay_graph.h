@@ -4,7 +4,9 @@
 // caller's indices through one hash table of the inserted pixels.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -21,6 +23,11 @@ struct DelaunayGraph {
   /// The corners' pixels of triangles[k], as Subdiv2D gives them.
   std::vector<std::array<cv::Point2f, 3>> triangle_pixels;
 };
+
+/// One key per undirected edge between the vertices with indices a and b (a set of edges).
+inline int64_t undirectedEdgeKey(int a, int b) {
+  return (static_cast<int64_t>(std::min(a, b)) << 32) | static_cast<uint32_t>(std::max(a, b));
+}
 
 /// Triangulates `pixels[k]` under the index `index[k]`; the pixels must lie inside `image`. A
 /// pixel equal to an earlier one is left out (the earlier one stands for both). Edges and

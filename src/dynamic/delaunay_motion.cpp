@@ -30,8 +30,6 @@ struct UnionFind {
   }
 };
 
-int64_t edgeKey(int a, int b) { return (static_cast<int64_t>(std::min(a, b)) << 32) | static_cast<uint32_t>(std::max(a, b)); }
-
 /// 1. The graph: correspondences with depth in both frames and the current pixel inside the
 /// image, one vertex per pixel position.
 DelaunayGraph triangulateCorrespondences(const std::vector<MotionCorrespondence>& corr, const PinholeCamera& cam) {
@@ -109,9 +107,10 @@ void flagOutsideRigidGroups(const DelaunayMotionOptions& o, const DelaunayGraph&
   UnionFind together(static_cast<int>(res->moving.size()));
   std::unordered_set<int64_t> kept;
   for (const auto& e : res->edges)
-    if (!e.broken) kept.insert(edgeKey(e.a, e.b));
+    if (!e.broken) kept.insert(undirectedEdgeKey(e.a, e.b));
+  auto keptEdge = [&](int a, int b) { return kept.count(undirectedEdgeKey(a, b)) > 0; };
   for (const auto& v : graph.triangles) {
-    if (!kept.count(edgeKey(v[0], v[1])) || !kept.count(edgeKey(v[1], v[2])) || !kept.count(edgeKey(v[0], v[2]))) continue;
+    if (!keptEdge(v[0], v[1]) || !keptEdge(v[1], v[2]) || !keptEdge(v[0], v[2])) continue;
     together.unite(v[0], v[1]);
     together.unite(v[0], v[2]);
   }
