@@ -52,10 +52,7 @@ namespace {
 
 constexpr int kHalfPatch = 15;
 
-struct Candidate {
-  int x, y;  ///< level pixels
-  float response;
-};
+using Candidate = OrbExtraction::Candidate;
 
 // Half-width of the circular patch at each row offset: the pixels with u^2 + v^2 <= r^2 + r.
 // Defined by a condition symmetric in u and v, so the patch is the same after a 90 degree
@@ -206,70 +203,106 @@ std::vector<Candidate> detectLevel(const cv::Mat& img, const cv::Mat& mask, floa
   return out;
 }
 
+// Keypoints per level in a geometric series (finer levels cover more area and get more).
+std::vector<int> keypointsPerLevel(const OrbOptions& o, size_t levels) {
+  const double f = 1.0 / o.scale_factor;
+  std::vector<int> wanted(levels);
+  const double first = o.num_features * (1 - f) / (1 - std::pow(f, double(levels)));
+  int sum = 0;
+  for (size_t l = 0; l + 1 < levels; ++l) {
+    wanted[l] = static_cast<int>(std::lround(first * std::pow(f, double(l))));
+    sum += wanted[l];
+  }
+  wanted.back() = std::max(0, o.num_features - sum);
+  return wanted;
+}
+
 }  // namespace
 
-void extractOrb(const cv::Mat& image, const cv::Mat& mask, const OrbOptions& o, std::vector<cv::KeyPoint>* keypoints,
-                cv::Mat* descriptors, StageTimes* times) {
+OrbExtraction::OrbExtraction(const cv::Mat& image, const cv::Mat& mask, const OrbOptions& o)
+    : options_(o), mask_(mask) {
   o.validate();
-  keypoints->clear();
-  *descriptors = cv::Mat(0, 32, CV_8U);
-  const cv::Mat grey = toGrey(image);
-  if (grey.empty()) return;
-  checkMask(mask, grey.size());
+  grey_ = toGrey(image);
+  if (grey_.empty()) return;
+  checkMask(mask, grey_.size());
   if (o.num_features == 0) return;
-
-  const std::vector<float> scales = orbLevelScales(o);
-  // Keypoints per level in a geometric series (finer levels cover more area and get more).
-  const double f = 1.0 / o.scale_factor;
-  std::vector<int> wanted(scales.size());
-  {
-    const double first = o.num_features * (1 - f) / (1 - std::pow(f, double(scales.size())));
-    int sum = 0;
-    for (size_t l = 0; l + 1 < scales.size(); ++l) {
-      wanted[l] = static_cast<int>(std::lround(first * std::pow(f, double(l))));
-      sum += wanted[l];
-    }
-    wanted.back() = std::max(0, o.num_features - sum);
-  }
-
-  std::optional<StageTimer> detect_timer(std::in_place, times, Stage::kOrbDetect);
-  cv::Mat level = grey;
-  int carry = 0;  // what a level could not provide goes to the next one
-  for (size_t l = 0; l < scales.size(); ++l) {
+  scales_ = orbLevelScales(o);
+  cv::Mat level = grey_;
+  for (size_t l = 0; l < scales_.size(); ++l) {
     if (l > 0) {
-      const cv::Size sz(cvRound(grey.cols / scales[l]), cvRound(grey.rows / scales[l]));
+      const cv::Size sz(cvRound(grey_.cols / scales_[l]), cvRound(grey_.rows / scales_[l]));
       if (sz.width < 2 * kOrbEdge + 1 || sz.height < 2 * kOrbEdge + 1) break;
       cv::Mat next;
       cv::resize(level, next, sz, 0, 0, cv::INTER_LINEAR_EXACT);  // as cv::ORB builds its pyramid
       level = next;
-    } else if (grey.cols < 2 * kOrbEdge + 1 || grey.rows < 2 * kOrbEdge + 1) {
+    } else if (grey_.cols < 2 * kOrbEdge + 1 || grey_.rows < 2 * kOrbEdge + 1) {
       break;
     }
-    const int target = wanted[l] + carry;
-    const std::vector<Candidate> cand = detectLevel(level, mask, scales[l], o);
-    const std::vector<int> keep = distributeQuadtree(cand, target, kOrbEdge, kOrbEdge, float(level.cols - kOrbEdge),
-                                                     float(level.rows - kOrbEdge));
-    carry = target - static_cast<int>(keep.size());
-    for (int i : keep) {
-      const Candidate& c = cand[i];
-      cv::KeyPoint kp(cv::Point2f(c.x * scales[l], c.y * scales[l]), 31.0f * scales[l],
-                      intensityCentroidAngle(level, c.x, c.y), c.response, static_cast<int>(l));
-      keypoints->push_back(kp);
+    pyramid_.push_back(level);
+  }
+  candidates_.resize(pyramid_.size());
+}
+
+int OrbExtraction::coarseLevelsStart() const {
+  double total = 0;
+  for (const cv::Mat& level : pyramid_) total += level.total();
+  double coarse = total;
+  for (int l = 0; l < levels(); ++l) {
+    if (coarse <= 0.5 * total) return l;
+    coarse -= pyramid_[static_cast<size_t>(l)].total();
+  }
+  return levels();
+}
+
+void OrbExtraction::detectLevels(int first, int last) {
+  for (size_t l = static_cast<size_t>(std::max(first, 0)); l < static_cast<size_t>(std::min(last, levels())); ++l)
+    candidates_[l] = detectLevel(pyramid_[l], mask_, scales_[l], options_);
+}
+
+void OrbExtraction::finish(std::vector<cv::KeyPoint>* keypoints, cv::Mat* descriptors, StageTimes* times) {
+  keypoints->clear();
+  *descriptors = cv::Mat(0, 32, CV_8U);
+  if (pyramid_.empty()) return;
+  {
+    const StageTimer detect_timer(times, Stage::kOrbDetect);
+    const std::vector<int> wanted = keypointsPerLevel(options_, scales_.size());
+    int carry = 0;  // what a level could not provide goes to the next one
+    for (size_t l = 0; l < pyramid_.size(); ++l) {
+      const cv::Mat& level = pyramid_[l];
+      const std::vector<Candidate>& cand = candidates_[l];
+      const int target = wanted[l] + carry;
+      const std::vector<int> keep = distributeQuadtree(cand, target, kOrbEdge, kOrbEdge, float(level.cols - kOrbEdge),
+                                                       float(level.rows - kOrbEdge));
+      carry = target - static_cast<int>(keep.size());
+      for (int i : keep) {
+        const Candidate& c = cand[static_cast<size_t>(i)];
+        keypoints->emplace_back(cv::Point2f(c.x * scales_[l], c.y * scales_[l]), 31.0f * scales_[l],
+                                intensityCentroidAngle(level, c.x, c.y), c.response, static_cast<int>(l));
+      }
     }
   }
-  detect_timer.reset();
   if (keypoints->empty()) return;
 
   const StageTimer describe_timer(times, Stage::kOrbDescribe);
   // Descriptors with OpenCV's learned rBRIEF pattern on its own (identically built) pyramid;
   // provided keypoints keep their angle. Their border distance means none is dropped.
   const size_t n = keypoints->size();
+  const OrbOptions& o = options_;
   auto orb = cv::ORB::create(o.num_features, o.scale_factor, o.num_levels, kOrbEdge, 0, 2, cv::ORB::FAST_SCORE, 31,
                              o.fast_threshold);
-  orb->compute(grey, *keypoints, *descriptors);
+  orb->compute(grey_, *keypoints, *descriptors);
   if (keypoints->size() != n || descriptors->rows != static_cast<int>(n))
     Logger("features").warn(str("ORB descriptor step dropped ", n - keypoints->size(), " of ", n, " keypoints"));
   if (descriptors->empty()) *descriptors = cv::Mat(0, 32, CV_8U);
+}
+
+void extractOrb(const cv::Mat& image, const cv::Mat& mask, const OrbOptions& o, std::vector<cv::KeyPoint>* keypoints,
+                cv::Mat* descriptors, StageTimes* times) {
+  std::optional<StageTimer> detect_timer(std::in_place, times, Stage::kOrbDetect);
+  OrbExtraction orb(image, mask, o);
+  orb.detectLevels(0, orb.levels());
+  detect_timer.reset();
+  orb.finish(keypoints, descriptors, times);
 }
 
 }  // namespace plslam

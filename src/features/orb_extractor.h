@@ -47,6 +47,43 @@ constexpr int kOrbEdge = 16;
 void extractOrb(const cv::Mat& image, const cv::Mat& mask, const OrbOptions& options, std::vector<cv::KeyPoint>* keypoints,
                 cv::Mat* descriptors, StageTimes* times = nullptr);
 
+/// extractOrb in steps, so that the FAST corners of the coarser pyramid levels can be found
+/// on another thread while the caller's finds those of the finer ones. The result is
+/// extractOrb's, whatever runs where:
+///
+///     OrbExtraction orb(image, mask, options);                // grey image, mask check, pyramid
+///     orb.detectLevels(orb.coarseLevelsStart(), orb.levels());  // e.g. on another thread
+///     orb.detectLevels(0, orb.coarseLevelsStart());
+///     orb.finish(&keypoints, &descriptors);                     // after both
+///
+/// detectLevels() on disjoint ranges may run concurrently; everything else on one thread.
+class OrbExtraction {
+ public:
+  /// A FAST corner of one level, in that level's pixels.
+  struct Candidate {
+    int x, y;
+    float response;
+  };
+
+  /// Throws as extractOrb does.
+  OrbExtraction(const cv::Mat& image, const cv::Mat& mask, const OrbOptions& options);
+  /// Pyramid levels to detect on (0 for an empty or tiny image, or no features wanted).
+  int levels() const { return static_cast<int>(pyramid_.size()); }
+  /// The first of the coarser levels that together hold at most half of the pyramid's pixels.
+  int coarseLevelsStart() const;
+  /// FAST corners of levels [first, last).
+  void detectLevels(int first, int last);
+  /// Spreads, orients and describes the corners of every level; `times` as extractOrb's.
+  void finish(std::vector<cv::KeyPoint>* keypoints, cv::Mat* descriptors, StageTimes* times = nullptr);
+
+ private:
+  OrbOptions options_;
+  cv::Mat grey_, mask_;
+  std::vector<float> scales_;
+  std::vector<cv::Mat> pyramid_;
+  std::vector<std::vector<Candidate>> candidates_;  // per level
+};
+
 /// scale_factor^level for level 0..num_levels-1: level pixels times this = level-0 pixels.
 std::vector<float> orbLevelScales(const OrbOptions& options);
 

@@ -37,12 +37,24 @@ FeatureExtraction::FeatureExtraction(const RgbdFrame& frame, const cv::Mat& mask
   if (frame.bgr.empty()) return;
   if (frame.bgr.channels() == 3) cv::cvtColor(frame.bgr, grey_, cv::COLOR_BGR2GRAY);
   else grey_ = frame.bgr;
-  if (!options_.use_lines || !options_.parallel) return;
+  {
+    const StageTimer timer(&orb_times_, Stage::kOrbDetect);
+    orb_.emplace(grey_, mask_, options_.orb);
+  }
+  if (!options_.parallel) return;
+  if (line_worker) {
+    coarse_levels_ = line_worker->submit([this] {
+      const StageTimer timer(&coarse_times_, Stage::kOrbDetect);
+      orb_->detectLevels(orb_->coarseLevelsStart(), orb_->levels());
+    });
+  }
+  if (!options_.use_lines) return;
   if (line_worker) lines_ = line_worker->submit([this] { return runLines(); });
   else lines_ = std::async(std::launch::async, [this] { return runLines(); });
 }
 
 FeatureExtraction::~FeatureExtraction() {
+  if (coarse_levels_.valid()) coarse_levels_.wait();
   if (lines_.valid()) lines_.wait();
 }
 
@@ -59,8 +71,17 @@ FrameFeatures FeatureExtraction::points(StageTimes* times) {
   f.point_descriptors = cv::Mat(0, 32, CV_8U);
   f.line_descriptors = cv::Mat(0, 32, CV_8U);
   if (grey_.empty()) return f;
+  {
+    const StageTimer timer(times, Stage::kOrbDetect);
+    orb_->detectLevels(0, coarse_levels_.valid() ? orb_->coarseLevelsStart() : orb_->levels());
+  }
+  if (coarse_levels_.valid()) coarse_levels_.get();
+  if (times) {  // detection's time on both threads, without the wait
+    times->add(orb_times_);
+    times->add(coarse_times_);
+  }
   std::vector<cv::KeyPoint> kps;
-  extractOrb(grey_, mask_, options_.orb, &kps, &f.point_descriptors, times);
+  orb_->finish(&kps, &f.point_descriptors, times);
   const StageTimer timer(times, Stage::kUndistort);
   f.points.reserve(kps.size());
   for (const cv::KeyPoint& k : kps) {

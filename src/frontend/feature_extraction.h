@@ -3,6 +3,7 @@
 #pragma once
 
 #include <future>
+#include <optional>
 #include <opencv2/core.hpp>
 
 #include "camera/pinhole_camera.h"
@@ -33,9 +34,12 @@ void bindFeatureOptions(OptionTable* table, FeatureOptions* options);
 /// (on another thread when options.parallel), points() extracts the keypoints on the
 /// caller's thread, addLines() waits for the segments and appends them. `frame`, `mask`,
 /// `camera` and `options` must outlive the object. The result is the same as extractFeatures.
-/// `line_worker` (optional) runs the segments when options.parallel; without one, a thread
-/// is started for them (what a caller that extracts a frame now and then wants; a caller
-/// that extracts every frame of a stream should keep a WorkerThread and hand it in).
+/// `line_worker` (optional) runs the segments when options.parallel, and before them the FAST
+/// corners of the ORB pyramid's coarser levels (the segments take less time than the
+/// keypoints and the dynamic check, so the other thread has room for them); without one, a
+/// thread is started for the segments alone (what a caller that extracts a frame now and
+/// then wants; a caller that extracts every frame of a stream should keep a WorkerThread and
+/// hand it in).
 class FeatureExtraction {
  public:
   FeatureExtraction(const RgbdFrame& frame, const cv::Mat& mask, const PinholeCamera& camera, const FeatureOptions& options,
@@ -61,7 +65,11 @@ class FeatureExtraction {
   const PinholeCamera& camera_;
   const FeatureOptions& options_;
   cv::Mat grey_;
-  StageTimes line_times_;  // written by the line job only, read after it finished
+  std::optional<OrbExtraction> orb_;
+  StageTimes orb_times_;     // the pyramid, built by the constructor
+  StageTimes coarse_times_;  // written by the coarse levels' job only, read after it finished
+  std::future<void> coarse_levels_;
+  StageTimes line_times_;    // written by the line job only, read after it finished
   std::future<Lines> lines_;
 };
 
