@@ -26,7 +26,8 @@ void bindFeatureOptions(OptionTable* t, FeatureOptions* o) {
   t->bind("features.line_merge_gap_px", &o->lines.merge_gap_px, "merge fragments at most this far apart along the line (px)");
   t->bind("features.orb_cell_size", &o->orb.cell_size,
           "side of the grid cells (level pixels) where FAST is retried at the low threshold");
-  t->bind("features.line_lsd_refine", &o->lines.lsd_refine, "LSD: OpenCV's implementation with its refinement (about 4 x slower; the merge does most of its job)");
+  t->bind("features.line_lsd_refine", &o->lines.lsd_refine,
+          "LSD: OpenCV's implementation with its refinement (about 4 x slower; the merge does most of its job)");
   t->bind("features.min_depth_m", &o->min_depth_m, "depth readings below this count as none (m)");
   t->bind("features.parallel", &o->parallel, "extract points and lines on two threads (the result does not depend on it)");
 }
