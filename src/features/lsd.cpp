@@ -172,7 +172,8 @@ std::vector<cv::Vec4f> detectLsdSegments(const cv::Mat& grey, const LsdParameter
   validate(p);
   if (grey.type() != CV_8UC1) throw DataError(str("LSD: image type ", grey.type(), " is not CV_8UC1"));
   std::vector<cv::Vec4f> segments;
-  if (grey.empty()) return segments;
+  // A 2 x 2 gradient needs two pixels each way after the sub-sampling.
+  if (grey.empty() || cvRound(grey.cols * p.scale) < 2 || cvRound(grey.rows * p.scale) < 2) return segments;
   const double tolerance = p.angle_tol_deg * kPi / 180;
   const double threshold = p.quant / std::sin(tolerance);  // a gradient this weak has an unreliable angle
   const LevelLines f = levelLines(subsample(grey, p), threshold, p.bins);

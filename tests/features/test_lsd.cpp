@@ -93,6 +93,10 @@ TEST(Lsd, AnImageWithoutEdgesHasNoSegment) {
   for (int x = 0; x < ramp.cols; ++x) ramp.col(x).setTo(x / 4);
   EXPECT_TRUE(detectLsdSegments(ramp, LsdParameters()).empty());
   EXPECT_TRUE(detectLsdSegments(cv::Mat(), LsdParameters()).empty());
+  // Too small for a 2 x 2 gradient once sub-sampled: nothing, not an OpenCV assertion.
+  LsdParameters half;
+  half.scale = 0.5;
+  for (int side : {1, 2, 3}) EXPECT_TRUE(detectLsdSegments(cv::Mat(side, side, CV_8U, cv::Scalar(7)), half).empty());
 }
 
 TEST(Lsd, RefusesAColourImageAndParametersOutOfRange) {
