@@ -1,8 +1,8 @@
 // Line segments: LSD (features/lsd.h; OpenCV's when its refinement is asked for), on a
 // reduced image for speed, a merge of collinear fragments (LSD over-segments: one physical
-// edge comes out as several pieces),
-// clipping to the mask, a length filter and a cap on the count; LBD binary descriptors
-// (features/lbd.h: OpenCV's BinaryDescriptor bits, computed faster).
+// edge comes out as several pieces), clipping to the mask, a length filter and a cap on the
+// count; LBD binary descriptors (features/lbd.h: OpenCV's BinaryDescriptor bits, computed
+// faster).
 //
 // Stateless and deterministic. Thread safety: every function may be called concurrently.
 #pragma once
