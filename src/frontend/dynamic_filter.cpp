@@ -372,6 +372,85 @@ DynamicFilter::CheckedMatches DynamicFilter::checkAgainstHistory(const FrameFeat
   return checked;
 }
 
+// Per keypoint labels from the check (r->point_motion; also into `checked_labels`), spread
+// over the graph of all keypoints when there are no instance masks: unmatched keypoints take
+// their neighbours' verdict, isolated moving flags are mismatches (and are cleared in the
+// check's verdicts too). Returns the triangles of keypoints left moving.
+std::vector<std::array<cv::Point2f, 3>> DynamicFilter::labelKeypoints(const FrameFeatures& f, bool have_masks,
+                                                                      CheckedMatches* checked, DynamicFrameResult* r,
+                                                                      std::vector<int8_t>* checked_labels) const {
+  const std::vector<int>& corr_keypoint = checked->matches.keypoint;
+  MotionCheckResult& motion = checked->motion;
+  r->point_motion.assign(f.points.size(), -1);
+  if (motion.ok())
+    for (size_t i = 0; i < corr_keypoint.size(); ++i)
+      if (motion.evidence[i] != MotionEvidence::kNone) r->point_motion[corr_keypoint[i]] = motion.moving[i];
+  *checked_labels = r->point_motion;
+  if (!motion.ok() || !options_.spread_labels || (have_masks && !options_.spread_with_masks)) return {};
+  std::vector<Eigen::Vector2d> uv;
+  std::vector<double> depth;
+  for (const Keypoint& k : f.points) {
+    uv.push_back(k.uv);
+    depth.push_back(k.depth_m);
+  }
+  LabelSpreadResult spread =
+      spreadMotionLabels(uv, depth, r->point_motion, cv::Size(camera_.width, camera_.height), options_.spread);
+  r->point_motion = std::move(spread.labels);
+  for (size_t i = 0; i < corr_keypoint.size(); ++i)
+    if (motion.moving[i] && r->point_motion[corr_keypoint[i]] == 0) motion.moving[i] = 0;
+  return std::move(spread.moving_triangles);
+}
+
+// The check's verdicts, the Delaunay graph check, the moving triangles and the instance masks
+// (carried to this frame when late) fused into one dynamic mask; its figures go into `r`.
+DynamicMaskResult DynamicFilter::fuseEvidence(CheckedMatches* checked, const Segmentation& seg,
+                                              const std::vector<std::array<cv::Point2f, 3>>& moving_triangles,
+                                              DynamicFrameResult* r) const {
+  const std::vector<MotionCorrespondence>& corr = checked->matches.corr;
+  const DelaunayMotionResult delaunay = analyseDelaunayMotion(corr, camera_, options_.delaunay, &checked->motion);
+  DynamicEvidence evidence;
+  evidence.correspondences = &corr;
+  evidence.motion = &checked->motion;
+  evidence.delaunay = &delaunay;
+  evidence.segmentation = seg.empty() ? nullptr : &seg;
+  const cv::Mat interiors = r->masks_propagated ? carriedInteriors(seg, r->propagation, options_.propagation) : cv::Mat();
+  if (!interiors.empty()) evidence.feature_labels = &interiors;
+  evidence.moving_triangles = &moving_triangles;
+  DynamicMaskResult fused = fuseDynamicMask(evidence, cv::Size(camera_.width, camera_.height), options_.mask);
+  r->mask = fused.mask;
+  r->instances = fused.stats.instances;
+  r->instances_dynamic = fused.stats.instances_dynamic;
+  r->segmentation = seg;
+  r->decisions = fused.instances;
+  return fused;
+}
+
+// Removes the keypoints the fusion found dynamic, those on the mask, and the unmatched ones
+// (`checked_motion` -1) that label spreading made moving; then the segments on the mask.
+void DynamicFilter::removeRejected(FrameFeatures* f, const CheckedMatches& checked, const DynamicMaskResult& fused,
+                                   const std::vector<int8_t>& checked_motion, DynamicFrameResult* r) const {
+  const std::vector<int>& corr_keypoint = checked.matches.keypoint;
+  std::vector<uint8_t> point_dynamic(f->points.size(), 0);
+  for (size_t i = 0; i < corr_keypoint.size(); ++i)
+    if (i < fused.feature_dynamic.size() && fused.feature_dynamic[i]) point_dynamic[corr_keypoint[i]] = 1;
+  for (size_t k = 0; k < point_dynamic.size(); ++k)
+    if (checked_motion[k] < 0 && r->point_motion[k] == 1) point_dynamic[k] = 1;
+  r->point_kept = removeDynamicPoints(f, fused.mask, point_dynamic);
+  r->points_rejected = static_cast<int>(std::count(r->point_kept.begin(), r->point_kept.end(), 0));
+  r->lines_rejected = removeDynamicLines(f, fused.mask, options_.line_masked_fraction);
+}
+
+void DynamicFilter::logFrame(const CheckedMatches& checked, const DynamicFrameResult& r, size_t points_left) const {
+  const MotionCheckResult& motion = checked.motion;
+  kLog.debug(str("frame ", frame_count_ - 1, ": ", points_left + r.points_rejected, " points, ",
+                 checked.matches.corr.size(), " matched ", checked.gap, " frames back (", motion.with_depth,
+                 " with depth), motion ", motionCheckStatusName(motion.status), " inliers ", motion.inliers, " moving ",
+                 motion.movingCount(), motion.prior_used ? " prior" : "", motion.prior_won ? " prior_won" : "",
+                 motion.prior_rejected ? " prior_rejected" : "", checked.searched_prediction ? " at_prediction" : "",
+                 " judged_late ", checked.judged_late, "; rejected ", r.points_rejected, " points, ", r.lines_rejected,
+                 " lines"));
+}
+
 DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures* f,
                                           const std::optional<SE3>& prior_T_cur_prev) {
   DynamicFrameResult r;
@@ -379,70 +458,15 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
   const Segmentation seg = latestSegmentation(frame, &r);
   ++frame_count_;
   const auto t0 = std::chrono::steady_clock::now();
-
   CheckedMatches checked = checkAgainstHistory(*f, prior_T_cur_prev);
-  const std::vector<MotionCorrespondence>& corr = checked.matches.corr;
-  const std::vector<int>& corr_keypoint = checked.matches.keypoint;
-  MotionCheckResult& motion = checked.motion;
-  r.motion_status = motion.status;
-
-  // Per keypoint labels from the check, spread over the graph of all keypoints when there are
-  // no instance masks: unmatched keypoints take their neighbours' verdict, isolated moving
-  // flags are mismatches.
-  r.point_motion.assign(f->points.size(), -1);
-  if (motion.ok())
-    for (size_t i = 0; i < corr.size(); ++i)
-      if (motion.evidence[i] != MotionEvidence::kNone) r.point_motion[corr_keypoint[i]] = motion.moving[i];
-  std::vector<int8_t> checked_motion = r.point_motion;
-  std::vector<std::array<cv::Point2f, 3>> moving_triangles;
-  if (options_.spread_labels && motion.ok() && (seg.empty() || options_.spread_with_masks)) {
-    std::vector<Eigen::Vector2d> uv;
-    std::vector<double> depth;
-    for (const Keypoint& k : f->points) {
-      uv.push_back(k.uv);
-      depth.push_back(k.depth_m);
-    }
-    LabelSpreadResult spread =
-        spreadMotionLabels(uv, depth, r.point_motion, cv::Size(camera_.width, camera_.height), options_.spread);
-    moving_triangles = std::move(spread.moving_triangles);
-    r.point_motion = std::move(spread.labels);
-    for (size_t i = 0; i < corr.size(); ++i)
-      if (motion.moving[i] && r.point_motion[corr_keypoint[i]] == 0) motion.moving[i] = 0;
-  }
-
-  const DelaunayMotionResult delaunay = analyseDelaunayMotion(corr, camera_, options_.delaunay, &motion);
-  DynamicEvidence evidence;
-  evidence.correspondences = &corr;
-  evidence.motion = &motion;
-  evidence.delaunay = &delaunay;
-  evidence.segmentation = seg.empty() ? nullptr : &seg;
-  const cv::Mat interiors = r.masks_propagated ? carriedInteriors(seg, r.propagation, options_.propagation) : cv::Mat();
-  if (!interiors.empty()) evidence.feature_labels = &interiors;
-  evidence.moving_triangles = &moving_triangles;
-  const DynamicMaskResult fused = fuseDynamicMask(evidence, cv::Size(camera_.width, camera_.height), options_.mask);
-  r.mask = fused.mask;
-  r.instances = fused.stats.instances;
-  r.instances_dynamic = fused.stats.instances_dynamic;
-  r.segmentation = seg;
-  r.decisions = fused.instances;
-
-  std::vector<uint8_t> point_dynamic(f->points.size(), 0);
-  for (size_t i = 0; i < corr_keypoint.size(); ++i)
-    if (i < fused.feature_dynamic.size() && fused.feature_dynamic[i]) point_dynamic[corr_keypoint[i]] = 1;
-  for (size_t k = 0; k < point_dynamic.size(); ++k)  // unmatched keypoints their neighbours found moving
-    if (checked_motion[k] < 0 && r.point_motion[k] == 1) point_dynamic[k] = 1;
-  r.point_kept = removeDynamicPoints(f, fused.mask, point_dynamic);
-  r.points_rejected = static_cast<int>(std::count(r.point_kept.begin(), r.point_kept.end(), 0));
-  r.lines_rejected = removeDynamicLines(f, fused.mask, options_.line_masked_fraction);
+  r.motion_status = checked.motion.status;
+  std::vector<int8_t> checked_motion;  // the check's own labels, before spreading
+  const std::vector<std::array<cv::Point2f, 3>> moving_triangles =
+      labelKeypoints(*f, !seg.empty(), &checked, &r, &checked_motion);
+  const DynamicMaskResult fused = fuseEvidence(&checked, seg, moving_triangles, &r);
+  removeRejected(f, checked, fused, checked_motion, &r);
   r.filter_ms = msSince(t0);
-  if (kLog.enabled(LogLevel::kDebug))
-    kLog.debug(str("frame ", frame_count_ - 1, ": ", f->points.size() + r.points_rejected, " points, ", corr.size(),
-                   " matched ", checked.gap, " frames back (", motion.with_depth, " with depth), motion ",
-                   motionCheckStatusName(motion.status), " inliers ", motion.inliers, " moving ", motion.movingCount(),
-                   motion.prior_used ? " prior" : "", motion.prior_won ? " prior_won" : "",
-                   motion.prior_rejected ? " prior_rejected" : "", checked.searched_prediction ? " at_prediction" : "", " judged_late ", checked.judged_late,
-                   "; rejected ", r.points_rejected, " points, ",
-                   r.lines_rejected, " lines"));
+  if (kLog.enabled(LogLevel::kDebug)) logFrame(checked, r, f->points.size());
   return r;
 }
 

@@ -20,6 +20,7 @@
 // Thread safety: process() from one thread (the tracking thread).
 #pragma once
 
+#include <array>
 #include <condition_variable>
 #include <deque>
 #include <memory>
@@ -153,6 +154,15 @@ class DynamicFilter {
   CheckedMatches bestAdjacentMatches(const FrameFeatures& before, const FrameFeatures& f, const PointGrid& grid,
                                      const std::optional<SE3>& prior) const;
   CheckedMatches checkAdjacent(const FrameFeatures& before, const FrameFeatures& f, const std::optional<SE3>& prior) const;
+  std::vector<std::array<cv::Point2f, 3>> labelKeypoints(const FrameFeatures& f, bool have_masks,
+                                                         CheckedMatches* checked, DynamicFrameResult* r,
+                                                         std::vector<int8_t>* checked_labels) const;
+  DynamicMaskResult fuseEvidence(CheckedMatches* checked, const Segmentation& seg,
+                                 const std::vector<std::array<cv::Point2f, 3>>& moving_triangles,
+                                 DynamicFrameResult* r) const;
+  void removeRejected(FrameFeatures* f, const CheckedMatches& checked, const DynamicMaskResult& fused,
+                      const std::vector<int8_t>& checked_motion, DynamicFrameResult* r) const;
+  void logFrame(const CheckedMatches& checked, const DynamicFrameResult& r, size_t points_left) const;
   CheckedMatches checkAgainstHistory(const FrameFeatures& f, const std::optional<SE3>& prior_T_cur_prev);
   void workerLoop();
 
