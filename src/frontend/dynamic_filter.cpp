@@ -413,7 +413,8 @@ DynamicMaskResult DynamicFilter::fuseEvidence(CheckedMatches* checked, const Seg
   evidence.motion = &checked->motion;
   evidence.delaunay = &delaunay;
   evidence.segmentation = seg.empty() ? nullptr : &seg;
-  const cv::Mat interiors = r->masks_propagated ? carriedInteriors(seg, r->propagation, options_.propagation) : cv::Mat();
+  const cv::Mat interiors =
+      r->masks_propagated ? carriedInteriors(seg, r->propagation, options_.propagation) : cv::Mat();
   if (!interiors.empty()) evidence.feature_labels = &interiors;
   evidence.moving_triangles = &moving_triangles;
   DynamicMaskResult fused = fuseDynamicMask(evidence, cv::Size(camera_.width, camera_.height), options_.mask);
