@@ -77,4 +77,40 @@ LabelSpreadResult spreadMotionLabels(const std::vector<Eigen::Vector2d>& uv, con
   return res;
 }
 
+int floodMovingLabels(const std::vector<Eigen::Vector2d>& uv, const std::vector<double>& depth,
+                      std::vector<int> seeds, cv::Size size, const LabelSpreadOptions& o,
+                      std::vector<int8_t>* labels) {
+  const size_t n = uv.size();
+  if (depth.size() != n || labels->size() != n)
+    throw DataError(str("label flood: ", n, " pixels, ", depth.size(), " depths and ", labels->size(), " labels"));
+  std::vector<cv::Point2f> pixels;
+  std::vector<int> index;
+  for (size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(depth[i]) || depth[i] <= 0 || !uv[i].allFinite()) continue;
+    const cv::Point2f p(static_cast<float>(uv[i].x()), static_cast<float>(uv[i].y()));
+    if (p.x < 0 || p.y < 0 || p.x >= size.width || p.y >= size.height) continue;
+    pixels.push_back(p);
+    index.push_back(static_cast<int>(i));
+  }
+  const DelaunayGraph graph = triangulateFeatures(pixels, index, size);
+  std::vector<std::vector<int>> neighbours(n);
+  for (const auto& [a, b] : graph.edges) {
+    if ((uv[a] - uv[b]).norm() > o.max_edge_px || !o.surface.joins(depth[a], depth[b])) continue;
+    neighbours[a].push_back(b);
+    neighbours[b].push_back(a);
+  }
+  int flooded = 0;
+  while (!seeds.empty()) {
+    const int k = seeds.back();
+    seeds.pop_back();
+    for (int j : neighbours[k])
+      if ((*labels)[j] < 0) {
+        (*labels)[j] = 1;
+        seeds.push_back(j);
+        ++flooded;
+      }
+  }
+  return flooded;
+}
+
 }  // namespace plslam

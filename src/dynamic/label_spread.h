@@ -58,4 +58,13 @@ LabelSpreadResult spreadMotionLabels(const std::vector<Eigen::Vector2d>& uv, con
                                      const std::vector<int8_t>& labels, cv::Size image_size,
                                      const LabelSpreadOptions& options = {});
 
+/// From the `seeds` (features labelled moving), every unjudged feature (-1 in `labels`) joined
+/// to a moving one by a counted edge (step 1) becomes moving, and so on: a flood, not a vote,
+/// so that a near walker's whole body follows its flagged outline whatever still neighbours it
+/// has. Judged features are left as they are. Returns how many it labelled. Throws DataError
+/// when the sizes differ.
+int floodMovingLabels(const std::vector<Eigen::Vector2d>& uv, const std::vector<double>& depth_m,
+                      std::vector<int> seeds, cv::Size image_size, const LabelSpreadOptions& options,
+                      std::vector<int8_t>* labels);
+
 }  // namespace plslam

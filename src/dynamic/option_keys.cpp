@@ -3,6 +3,7 @@
 #include "core/option_table.h"
 #include "dynamic/delaunay_motion.h"
 #include "dynamic/dynamic_mask.h"
+#include "dynamic/free_space_check.h"
 #include "dynamic/label_spread.h"
 #include "dynamic/mask_propagation.h"
 #include "dynamic/motion_check.h"
@@ -92,6 +93,16 @@ void bindMaskPropagationOptions(OptionTable* t, const std::string& p, MaskPropag
   t->bind(p + "interior_margin_fraction", &o->interior_margin_fraction,
           "features join a carried instance only this fraction of the carried distance inside its outline", atLeast(0));
   t->bind(p + "max_interior_margin_px", &o->max_interior_margin_px, "... and at most this far inside (px)", atLeast(0));
+}
+
+void bindFreeSpaceOptions(OptionTable* t, const std::string& p, FreeSpaceOptions* o) {
+  t->bind(p + "enabled", &o->enabled, "flag unmatched keypoints in space the earlier depth image saw empty, and the unjudged rest of their surface (off: costs 2-3 ms a frame)");
+  t->bind(p + "window_radius_px", &o->window_radius_px,
+          "the earlier depth is the nearest within this many pixels of the projection", atLeast(0));
+  t->bind(p + "sigmas", &o->sigmas, "a keypoint must be this many depth-noise sigmas in front of it", above(0));
+  t->bind(p + "min_gap_m", &o->min_gap_m, "... and at least this far in front (m)", atLeast(0));
+  t->bind(p + "min_valid_fraction", &o->min_valid_fraction, "fraction of the window with depth, or no verdict",
+          within(0, 1));
 }
 
 }  // namespace plslam

@@ -354,8 +354,8 @@ DynamicFilter::CheckedMatches DynamicFilter::checkAdjacent(const FrameFeatures& 
 
 // Checks `f` against the oldest frame kept (compare_gap frames back once there are enough),
 // with the tracker's per-frame prediction extended over that gap at constant velocity, then
-// keeps `f`'s keypoints for the frames to come.
-DynamicFilter::CheckedMatches DynamicFilter::checkAgainstHistory(const FrameFeatures& f,
+// keeps `f`'s keypoints and `frame`'s depth for the frames to come.
+DynamicFilter::CheckedMatches DynamicFilter::checkAgainstHistory(const RgbdFrame& frame, const FrameFeatures& f,
                                                                  const std::optional<SE3>& prior_T_cur_prev) {
   const int gap = static_cast<int>(previous_.size());
   std::optional<SE3> prior;
@@ -364,12 +364,55 @@ DynamicFilter::CheckedMatches DynamicFilter::checkAgainstHistory(const FrameFeat
     for (int i = 0; i < gap; ++i) prior = *prior_T_cur_prev * *prior;
   }
   CheckedMatches checked;
-  if (!previous_.empty()) checked = checkAdjacent(previous_.front(), f, prior);
-  else checked.motion = checkMotion({}, camera_, options_.motion, prior);
+  if (!previous_.empty()) {
+    checked = checkAdjacent(previous_.front().features, f, prior);
+    checked.earlier_depth = previous_.front().depth_m;
+  } else {
+    checked.motion = checkMotion({}, camera_, options_.motion, prior);
+  }
   checked.gap = gap;
-  previous_.push_back(FrameFeatures{f.points, f.point_descriptors, {}, cv::Mat()});  // the check uses keypoints only
+  const bool keep_depth = options_.free_space.enabled && frame.depth_m.type() == CV_32FC1;
+  previous_.push_back({FrameFeatures{f.points, f.point_descriptors, {}, cv::Mat()},
+                       keep_depth ? frame.depth_m.clone() : cv::Mat()});
   while (static_cast<int>(previous_.size()) > options_.compare_gap) previous_.pop_front();
   return checked;
+}
+
+// Keypoints the check left unjudged that lie where the earlier frame saw empty space are
+// moving (free_space_check.h), and so is the unjudged rest of their surface (the flood above);
+// they are labelled so before the labels spread. Returns how many. Off by default: it helped
+// every row measured but costs 2-3 ms a frame (docs/RESULTS.md, "Free space in the earlier
+// depth image").
+int DynamicFilter::flagArrivals(const FrameFeatures& f, const CheckedMatches& checked,
+                                std::vector<int8_t>* point_motion) const {
+  if (!options_.free_space.enabled || !checked.motion.ok() || checked.earlier_depth.empty()) return 0;
+  std::vector<int> unjudged;
+  std::vector<Eigen::Vector3d> points;
+  for (size_t k = 0; k < f.points.size(); ++k) {
+    const Keypoint& kp = f.points[k];
+    if ((*point_motion)[k] >= 0 || !std::isfinite(kp.depth_m)) continue;
+    unjudged.push_back(static_cast<int>(k));
+    points.push_back(camera_.unprojectIdeal(kp.uv, kp.depth_m));
+  }
+  const std::vector<uint8_t> arrived =
+      pointsInEarlierFreeSpace(points, checked.motion.T_cur_prev.inverse(), checked.earlier_depth, camera_,
+                               options_.motion.noise, options_.free_space);
+  int flagged = 0;
+  std::vector<int> queue;
+  for (size_t i = 0; i < unjudged.size(); ++i)
+    if (arrived[i]) {
+      (*point_motion)[unjudged[i]] = 1;
+      queue.push_back(unjudged[i]);
+      ++flagged;
+    }
+  std::vector<Eigen::Vector2d> uv;
+  std::vector<double> depth;
+  for (const Keypoint& k : f.points) {
+    uv.push_back(k.uv);
+    depth.push_back(k.depth_m);
+  }
+  return flagged + floodMovingLabels(uv, depth, queue, cv::Size(camera_.width, camera_.height), options_.spread,
+                                     point_motion);
 }
 
 // Per keypoint labels from the check (r->point_motion; also into `checked_labels`), spread
@@ -386,6 +429,7 @@ std::vector<std::array<cv::Point2f, 3>> DynamicFilter::labelKeypoints(const Fram
     for (size_t i = 0; i < corr_keypoint.size(); ++i)
       if (motion.evidence[i] != MotionEvidence::kNone) r->point_motion[corr_keypoint[i]] = motion.moving[i];
   *checked_labels = r->point_motion;
+  flagArrivals(f, *checked, &r->point_motion);
   if (!motion.ok() || !options_.spread_labels || (have_masks && !options_.spread_with_masks)) return {};
   std::vector<Eigen::Vector2d> uv;
   std::vector<double> depth;
@@ -459,7 +503,7 @@ DynamicFrameResult DynamicFilter::process(const RgbdFrame& frame, FrameFeatures*
   const Segmentation seg = latestSegmentation(frame, &r);
   ++frame_count_;
   const auto t0 = std::chrono::steady_clock::now();
-  CheckedMatches checked = checkAgainstHistory(*f, prior_T_cur_prev);
+  CheckedMatches checked = checkAgainstHistory(frame, *f, prior_T_cur_prev);
   r.motion_status = checked.motion.status;
   std::vector<int8_t> checked_motion;  // the check's own labels, before spreading
   const std::vector<std::array<cv::Point2f, 3>> moving_triangles =

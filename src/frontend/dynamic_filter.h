@@ -33,6 +33,7 @@
 #include "core/map.h"
 #include "dynamic/delaunay_motion.h"
 #include "dynamic/dynamic_mask.h"
+#include "dynamic/free_space_check.h"
 #include "dynamic/label_spread.h"
 #include "dynamic/mask_propagation.h"
 #include "dynamic/motion_check.h"
@@ -58,6 +59,7 @@ struct DynamicFilterOptions {
   double line_masked_fraction = 0.3;
   MotionCheckOptions motion;       ///< geometric check between adjacent frames
   DelaunayMotionOptions delaunay;  ///< Delaunay graph check
+  FreeSpaceOptions free_space;     ///< unmatched keypoints against the earlier depth image
   bool spread_labels = true;
   // Off by default: the masks already give a moving object's extent, and on fr3_sitting_static
   // spreading grew moving areas from stray flags onto the static background (docs/RESULTS.md,
@@ -144,6 +146,11 @@ class DynamicFilter {
     bool searched_prediction = false;  // matched around the predicted positions
     int judged_late = 0;               // matches found at the estimated motion, judged by it
     int gap = 0;                       // frames between the two (0: no earlier frame yet)
+    cv::Mat earlier_depth;             // the earlier frame's depth image (empty: no earlier frame)
+  };
+  struct EarlierFrame {  // what the check keeps of a frame for the frames to come
+    FrameFeatures features;  // keypoints only
+    cv::Mat depth_m;         // a copy: callers reuse their buffers
   };
   AdjacentMatches matchAdjacent(const FrameFeatures& before, const FrameFeatures& f, const PointGrid& grid,
                                 const std::vector<Eigen::Vector2d>& centres, double radius_px,
@@ -163,14 +170,16 @@ class DynamicFilter {
   void removeRejected(FrameFeatures* f, const CheckedMatches& checked, const DynamicMaskResult& fused,
                       const std::vector<int8_t>& checked_motion, DynamicFrameResult* r) const;
   void logFrame(const CheckedMatches& checked, const DynamicFrameResult& r, size_t points_left) const;
-  CheckedMatches checkAgainstHistory(const FrameFeatures& f, const std::optional<SE3>& prior_T_cur_prev);
+  CheckedMatches checkAgainstHistory(const RgbdFrame& frame, const FrameFeatures& f,
+                                     const std::optional<SE3>& prior_T_cur_prev);
+  int flagArrivals(const FrameFeatures& f, const CheckedMatches& checked, std::vector<int8_t>* point_motion) const;
   void workerLoop();
 
   PinholeCamera camera_;
   DynamicFilterOptions options_;
   std::unique_ptr<Segmenter> segmenter_;
   bool asynchronous_;
-  std::deque<FrameFeatures> previous_;  // the last compare_gap frames' features, oldest first
+  std::deque<EarlierFrame> previous_;  // the last compare_gap frames, oldest first
   int frame_count_ = 0;
   Segmented latest_;                  // the newest segmentation delivered
   MaskCarrier carrier_;               // carries latest_ to the current frame (propagate_masks)

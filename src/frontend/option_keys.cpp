@@ -91,6 +91,7 @@ void bindDynamicFilterOptions(OptionTable* t, DynamicFilterOptions* o) {
   bindMotionCheckOptions(t, "dynamic.motion_", &d.motion);
   bindDelaunayMotionOptions(t, "dynamic.delaunay_", &d.delaunay);
   bindLabelSpreadOptions(t, "dynamic.spread_", &d.spread);
+  bindFreeSpaceOptions(t, "dynamic.free_space_", &d.free_space);
   bindMaskPropagationOptions(t, "dynamic.propagation_", &d.propagation);
 }
 

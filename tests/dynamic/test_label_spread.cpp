@@ -118,5 +118,33 @@ TEST(LabelSpread, MismatchedSizesAreRefused) {
   EXPECT_THROW(spreadMotionLabels(l.uv, l.depth, short_labels, kImage), DataError);
 }
 
+// The flood: one flagged feature in the object's corner, the rest of the object unjudged but
+// for a few judged still (a dragged check), the wall still. A majority vote would stop at the
+// still ones; the flood covers every unjudged object feature and never crosses onto the wall.
+TEST(LabelFlood, OneFlaggedFeatureTakesTheUnjudgedRestOfItsSurfaceAndNotTheWall) {
+  Layout l = wallAndObject();
+  int seed = -1, object_unjudged = 0;
+  for (size_t i = 0; i < l.labels.size(); ++i) {
+    if (!l.object[i]) continue;
+    if (seed < 0) {
+      seed = static_cast<int>(i);
+      l.labels[i] = 1;
+    } else {
+      l.labels[i] = i % 5 == 0 ? 0 : -1;  // every fifth judged still
+      object_unjudged += l.labels[i] < 0;
+    }
+  }
+  std::vector<int8_t> labels = l.labels;
+  const int flooded = floodMovingLabels(l.uv, l.depth, {seed}, kImage, LabelSpreadOptions{}, &labels);
+  EXPECT_EQ(flooded, object_unjudged);
+  for (size_t i = 0; i < labels.size(); ++i) {
+    if (!l.object[i]) EXPECT_EQ(labels[i], l.labels[i]) << "wall feature " << i;
+    else if (l.labels[i] == 0) EXPECT_EQ(labels[i], 0) << "judged features keep their label";
+    else EXPECT_EQ(labels[i], 1) << "object feature " << i;
+  }
+  std::vector<int8_t> too_few(3, -1);
+  EXPECT_THROW(floodMovingLabels(l.uv, l.depth, {}, kImage, {}, &too_few), DataError);
+}
+
 }  // namespace
 }  // namespace plslam
