@@ -10,6 +10,42 @@
 
 namespace plslam {
 
+namespace {
+// Step 1 for both the spreading and the flood: the features with depth inside the image are
+// triangulated (one vertex per distinct pixel), and each keeps its counted edges' other ends,
+// sorted (for the binary search of step 4).
+struct SurfaceGraph {
+  DelaunayGraph graph;
+  std::vector<std::vector<int>> neighbours;
+};
+
+SurfaceGraph surfaceGraph(const std::vector<Eigen::Vector2d>& uv, const std::vector<double>& depth, cv::Size size,
+                          const LabelSpreadOptions& o) {
+  std::vector<cv::Point2f> pixels;
+  std::vector<int> index;
+  for (size_t i = 0; i < uv.size(); ++i) {
+    if (!std::isfinite(depth[i]) || depth[i] <= 0 || !uv[i].allFinite()) continue;
+    const cv::Point2f p(static_cast<float>(uv[i].x()), static_cast<float>(uv[i].y()));
+    if (p.x < 0 || p.y < 0 || p.x >= size.width || p.y >= size.height) continue;
+    pixels.push_back(p);
+    index.push_back(static_cast<int>(i));
+  }
+  SurfaceGraph g;
+  g.graph = triangulateFeatures(pixels, index, size);
+  g.neighbours.resize(uv.size());
+  for (const auto& [a, b] : g.graph.edges) {
+    const cv::Point2f pa(static_cast<float>(uv[a].x()), static_cast<float>(uv[a].y()));
+    const cv::Point2f pb(static_cast<float>(uv[b].x()), static_cast<float>(uv[b].y()));
+    if (std::hypot(pb.x - pa.x, pb.y - pa.y) > o.max_edge_px) continue;
+    if (!o.surface.joins(depth[a], depth[b])) continue;
+    g.neighbours[a].push_back(b);
+    g.neighbours[b].push_back(a);
+  }
+  for (auto& list : g.neighbours) std::sort(list.begin(), list.end());
+  return g;
+}
+}  // namespace
+
 LabelSpreadResult spreadMotionLabels(const std::vector<Eigen::Vector2d>& uv, const std::vector<double>& depth,
                                      const std::vector<int8_t>& labels, cv::Size size, const LabelSpreadOptions& o) {
   const size_t n = uv.size();
@@ -18,27 +54,10 @@ LabelSpreadResult spreadMotionLabels(const std::vector<Eigen::Vector2d>& uv, con
   LabelSpreadResult res;
   res.labels = labels;
 
-  // 1. The graph: features with depth inside the image (one vertex per distinct pixel).
-  std::vector<cv::Point2f> pixels;
-  std::vector<int> index;
-  for (size_t i = 0; i < n; ++i) {
-    if (!std::isfinite(depth[i]) || depth[i] <= 0 || !uv[i].allFinite()) continue;
-    const cv::Point2f p(static_cast<float>(uv[i].x()), static_cast<float>(uv[i].y()));
-    if (p.x < 0 || p.y < 0 || p.x >= size.width || p.y >= size.height) continue;
-    pixels.push_back(p);
-    index.push_back(static_cast<int>(i));
-  }
-  const DelaunayGraph graph = triangulateFeatures(pixels, index, size);
-  std::vector<std::vector<int>> neighbours(n);
-  for (const auto& [a, b] : graph.edges) {
-    const cv::Point2f pa(static_cast<float>(uv[a].x()), static_cast<float>(uv[a].y()));
-    const cv::Point2f pb(static_cast<float>(uv[b].x()), static_cast<float>(uv[b].y()));
-    if (std::hypot(pb.x - pa.x, pb.y - pa.y) > o.max_edge_px) continue;
-    if (!o.surface.joins(depth[a], depth[b])) continue;
-    neighbours[a].push_back(b);
-    neighbours[b].push_back(a);
-  }
-  for (auto& list : neighbours) std::sort(list.begin(), list.end());  // for the binary search of step 4
+  // 1. The graph.
+  const SurfaceGraph surface = surfaceGraph(uv, depth, size, o);
+  const DelaunayGraph& graph = surface.graph;
+  const std::vector<std::vector<int>>& neighbours = surface.neighbours;
   auto count = [&](const std::vector<int8_t>& l, size_t i, int8_t value) {
     return static_cast<int>(std::count_if(neighbours[i].begin(), neighbours[i].end(), [&](int j) { return l[j] == value; }));
   };
@@ -83,22 +102,7 @@ int floodMovingLabels(const std::vector<Eigen::Vector2d>& uv, const std::vector<
   const size_t n = uv.size();
   if (depth.size() != n || labels->size() != n)
     throw DataError(str("label flood: ", n, " pixels, ", depth.size(), " depths and ", labels->size(), " labels"));
-  std::vector<cv::Point2f> pixels;
-  std::vector<int> index;
-  for (size_t i = 0; i < n; ++i) {
-    if (!std::isfinite(depth[i]) || depth[i] <= 0 || !uv[i].allFinite()) continue;
-    const cv::Point2f p(static_cast<float>(uv[i].x()), static_cast<float>(uv[i].y()));
-    if (p.x < 0 || p.y < 0 || p.x >= size.width || p.y >= size.height) continue;
-    pixels.push_back(p);
-    index.push_back(static_cast<int>(i));
-  }
-  const DelaunayGraph graph = triangulateFeatures(pixels, index, size);
-  std::vector<std::vector<int>> neighbours(n);
-  for (const auto& [a, b] : graph.edges) {
-    if ((uv[a] - uv[b]).norm() > o.max_edge_px || !o.surface.joins(depth[a], depth[b])) continue;
-    neighbours[a].push_back(b);
-    neighbours[b].push_back(a);
-  }
+  const std::vector<std::vector<int>> neighbours = surfaceGraph(uv, depth, size, o).neighbours;
   int flooded = 0;
   while (!seeds.empty()) {
     const int k = seeds.back();
