@@ -10,17 +10,12 @@
 
 namespace plslam {
 
-namespace {
-// Step 1 for both the spreading and the flood: the features with depth inside the image are
-// triangulated (one vertex per distinct pixel), and each keeps its counted edges' other ends,
-// sorted (for the binary search of step 4).
-struct SurfaceGraph {
-  DelaunayGraph graph;
-  std::vector<std::vector<int>> neighbours;
-};
-
-SurfaceGraph surfaceGraph(const std::vector<Eigen::Vector2d>& uv, const std::vector<double>& depth, cv::Size size,
-                          const LabelSpreadOptions& o) {
+// Step 1: one vertex per distinct pixel (triangulateFeatures); the edges are counted as the
+// header says and sorted per feature, for the binary search of step 4.
+SurfaceGraph buildSurfaceGraph(const std::vector<Eigen::Vector2d>& uv, const std::vector<double>& depth,
+                               cv::Size size, const LabelSpreadOptions& o) {
+  if (depth.size() != uv.size())
+    throw DataError(str("surface graph: ", uv.size(), " pixels and ", depth.size(), " depths"));
   std::vector<cv::Point2f> pixels;
   std::vector<int> index;
   for (size_t i = 0; i < uv.size(); ++i) {
@@ -44,20 +39,15 @@ SurfaceGraph surfaceGraph(const std::vector<Eigen::Vector2d>& uv, const std::vec
   for (auto& list : g.neighbours) std::sort(list.begin(), list.end());
   return g;
 }
-}  // namespace
 
-LabelSpreadResult spreadMotionLabels(const std::vector<Eigen::Vector2d>& uv, const std::vector<double>& depth,
-                                     const std::vector<int8_t>& labels, cv::Size size, const LabelSpreadOptions& o) {
-  const size_t n = uv.size();
-  if (depth.size() != n || labels.size() != n)
-    throw DataError(str("label spread: ", n, " pixels, ", depth.size(), " depths and ", labels.size(), " labels"));
+LabelSpreadResult spreadMotionLabels(const SurfaceGraph& surface, const std::vector<int8_t>& labels,
+                                     const LabelSpreadOptions& o) {
+  const std::vector<std::vector<int>>& neighbours = surface.neighbours;
+  const size_t n = neighbours.size();
+  if (labels.size() != n) throw DataError(str("label spread: ", n, " features and ", labels.size(), " labels"));
   LabelSpreadResult res;
   res.labels = labels;
-
-  // 1. The graph.
-  const SurfaceGraph surface = surfaceGraph(uv, depth, size, o);
   const DelaunayGraph& graph = surface.graph;
-  const std::vector<std::vector<int>>& neighbours = surface.neighbours;
   auto count = [&](const std::vector<int8_t>& l, size_t i, int8_t value) {
     return static_cast<int>(std::count_if(neighbours[i].begin(), neighbours[i].end(), [&](int j) { return l[j] == value; }));
   };
@@ -96,13 +86,10 @@ LabelSpreadResult spreadMotionLabels(const std::vector<Eigen::Vector2d>& uv, con
   return res;
 }
 
-int floodMovingLabels(const std::vector<Eigen::Vector2d>& uv, const std::vector<double>& depth,
-                      std::vector<int> seeds, cv::Size size, const LabelSpreadOptions& o,
-                      std::vector<int8_t>* labels) {
-  const size_t n = uv.size();
-  if (depth.size() != n || labels->size() != n)
-    throw DataError(str("label flood: ", n, " pixels, ", depth.size(), " depths and ", labels->size(), " labels"));
-  const std::vector<std::vector<int>> neighbours = surfaceGraph(uv, depth, size, o).neighbours;
+int floodMovingLabels(const SurfaceGraph& surface, std::vector<int> seeds, std::vector<int8_t>* labels) {
+  const std::vector<std::vector<int>>& neighbours = surface.neighbours;
+  if (labels->size() != neighbours.size())
+    throw DataError(str("label flood: ", neighbours.size(), " features and ", labels->size(), " labels"));
   int flooded = 0;
   while (!seeds.empty()) {
     const int k = seeds.back();

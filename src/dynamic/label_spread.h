@@ -26,6 +26,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "dynamic/delaunay_graph.h"
 #include "dynamic/delaunay_motion.h"
 
 namespace plslam {
@@ -44,6 +45,18 @@ struct LabelSpreadOptions {
 /// Binds `prefix` + "passes", "max_edge_px", "min_still_neighbours", "min_step_m", "step_ratio".
 void bindLabelSpreadOptions(OptionTable* table, const std::string& prefix, LabelSpreadOptions* options);
 
+/// Step 1: the features' same-surface graph. Built once a frame, shared by the flood and the
+/// spreading (triangulating costs about as much as either).
+struct SurfaceGraph {
+  DelaunayGraph graph;                       ///< over the features with depth inside the image
+  std::vector<std::vector<int>> neighbours;  ///< per feature, its counted edges' other ends, sorted
+};
+
+/// `uv`: current ideal pixels; `depth_m`: their depths (NaN: none, not in the graph). Throws
+/// DataError when the sizes differ.
+SurfaceGraph buildSurfaceGraph(const std::vector<Eigen::Vector2d>& uv, const std::vector<double>& depth_m,
+                               cv::Size image_size, const LabelSpreadOptions& options = {});
+
 struct LabelSpreadResult {
   std::vector<int8_t> labels;  ///< per feature: -1 unjudged, 0 still, 1 moving
   int isolated_cleared = 0;    ///< moving features turned still (step 2)
@@ -52,19 +65,16 @@ struct LabelSpreadResult {
   std::vector<std::array<cv::Point2f, 3>> moving_triangles;  ///< step 4, current pixels
 };
 
-/// `uv`: current ideal pixels; `depth_m`: their depths (NaN: none, left as they are);
-/// `labels`: -1 unjudged, 0 still, 1 moving. Throws DataError when the sizes differ.
-LabelSpreadResult spreadMotionLabels(const std::vector<Eigen::Vector2d>& uv, const std::vector<double>& depth_m,
-                                     const std::vector<int8_t>& labels, cv::Size image_size,
+/// Steps 2-4 on `graph`; `labels`: -1 unjudged, 0 still, 1 moving (features without depth are
+/// left as they are). Throws DataError when the sizes differ.
+LabelSpreadResult spreadMotionLabels(const SurfaceGraph& graph, const std::vector<int8_t>& labels,
                                      const LabelSpreadOptions& options = {});
 
 /// From the `seeds` (features labelled moving), every unjudged feature (-1 in `labels`) joined
-/// to a moving one by a counted edge (step 1) becomes moving, and so on: a flood, not a vote,
+/// to a moving one by a counted edge of `graph` becomes moving, and so on: a flood, not a vote,
 /// so that a near walker's whole body follows its flagged outline whatever still neighbours it
 /// has. Judged features are left as they are. Returns how many it labelled. Throws DataError
 /// when the sizes differ.
-int floodMovingLabels(const std::vector<Eigen::Vector2d>& uv, const std::vector<double>& depth_m,
-                      std::vector<int> seeds, cv::Size image_size, const LabelSpreadOptions& options,
-                      std::vector<int8_t>* labels);
+int floodMovingLabels(const SurfaceGraph& graph, std::vector<int> seeds, std::vector<int8_t>* labels);
 
 }  // namespace plslam

@@ -379,13 +379,12 @@ DynamicFilter::CheckedMatches DynamicFilter::checkAgainstHistory(const RgbdFrame
 }
 
 // Keypoints the check left unjudged that lie where the earlier frame saw empty space are
-// moving (free_space_check.h), and so is the unjudged rest of their surface (the flood above);
-// they are labelled so before the labels spread. Returns how many. Off by default: it helped
-// every row measured but costs 2-3 ms a frame (docs/RESULTS.md, "Free space in the earlier
+// moving (free_space_check.h), and so is the unjudged rest of their surface (the flood over
+// `graph`); they are labelled so before the labels spread. Returns how many. Off by default:
+// it helped every row measured but costs time (docs/RESULTS.md, "Free space in the earlier
 // depth image").
-int DynamicFilter::flagArrivals(const FrameFeatures& f, const CheckedMatches& checked,
+int DynamicFilter::flagArrivals(const FrameFeatures& f, const SurfaceGraph& graph, const CheckedMatches& checked,
                                 std::vector<int8_t>* point_motion) const {
-  if (!options_.free_space.enabled || !checked.motion.ok() || checked.earlier_depth.empty()) return 0;
   std::vector<int> unjudged;
   std::vector<Eigen::Vector3d> points;
   for (size_t k = 0; k < f.points.size(); ++k) {
@@ -397,28 +396,21 @@ int DynamicFilter::flagArrivals(const FrameFeatures& f, const CheckedMatches& ch
   const std::vector<uint8_t> arrived =
       pointsInEarlierFreeSpace(points, checked.motion.T_cur_prev.inverse(), checked.earlier_depth, camera_,
                                options_.motion.noise, options_.free_space);
-  int flagged = 0;
-  std::vector<int> queue;
+  std::vector<int> seeds;
   for (size_t i = 0; i < unjudged.size(); ++i)
     if (arrived[i]) {
       (*point_motion)[unjudged[i]] = 1;
-      queue.push_back(unjudged[i]);
-      ++flagged;
+      seeds.push_back(unjudged[i]);
     }
-  std::vector<Eigen::Vector2d> uv;
-  std::vector<double> depth;
-  for (const Keypoint& k : f.points) {
-    uv.push_back(k.uv);
-    depth.push_back(k.depth_m);
-  }
-  return flagged + floodMovingLabels(uv, depth, queue, cv::Size(camera_.width, camera_.height), options_.spread,
-                                     point_motion);
+  const int flagged = static_cast<int>(seeds.size());
+  return flagged + floodMovingLabels(graph, std::move(seeds), point_motion);
 }
 
-// Per keypoint labels from the check (r->point_motion; also into `checked_labels`), spread
-// over the graph of all keypoints when there are no instance masks: unmatched keypoints take
-// their neighbours' verdict, isolated moving flags are mismatches (and are cleared in the
-// check's verdicts too). Returns the triangles of keypoints left moving.
+// Per keypoint labels from the check (r->point_motion; also into `checked_labels`), flagged
+// arrivals (when on), then spread over the graph of all keypoints when there are no instance
+// masks: unmatched keypoints take their neighbours' verdict, isolated moving flags are
+// mismatches (and are cleared in the check's verdicts too). Returns the triangles of
+// keypoints left moving.
 std::vector<std::array<cv::Point2f, 3>> DynamicFilter::labelKeypoints(const FrameFeatures& f, bool have_masks,
                                                                       CheckedMatches* checked, DynamicFrameResult* r,
                                                                       std::vector<int8_t>* checked_labels) const {
@@ -429,20 +421,23 @@ std::vector<std::array<cv::Point2f, 3>> DynamicFilter::labelKeypoints(const Fram
     for (size_t i = 0; i < corr_keypoint.size(); ++i)
       if (motion.evidence[i] != MotionEvidence::kNone) r->point_motion[corr_keypoint[i]] = motion.moving[i];
   *checked_labels = r->point_motion;
-  flagArrivals(f, *checked, &r->point_motion);
-  if (!motion.ok() || !options_.spread_labels || (have_masks && !options_.spread_with_masks)) return {};
+  const bool spread = motion.ok() && options_.spread_labels && (!have_masks || options_.spread_with_masks);
+  const bool flood = motion.ok() && options_.free_space.enabled && !checked->earlier_depth.empty();
+  if (!spread && !flood) return {};
   std::vector<Eigen::Vector2d> uv;
   std::vector<double> depth;
   for (const Keypoint& k : f.points) {
     uv.push_back(k.uv);
     depth.push_back(k.depth_m);
   }
-  LabelSpreadResult spread =
-      spreadMotionLabels(uv, depth, r->point_motion, cv::Size(camera_.width, camera_.height), options_.spread);
-  r->point_motion = std::move(spread.labels);
+  const SurfaceGraph graph = buildSurfaceGraph(uv, depth, cv::Size(camera_.width, camera_.height), options_.spread);
+  if (flood) flagArrivals(f, graph, *checked, &r->point_motion);
+  if (!spread) return {};
+  LabelSpreadResult spread_result = spreadMotionLabels(graph, r->point_motion, options_.spread);
+  r->point_motion = std::move(spread_result.labels);
   for (size_t i = 0; i < corr_keypoint.size(); ++i)
     if (motion.moving[i] && r->point_motion[corr_keypoint[i]] == 0) motion.moving[i] = 0;
-  return std::move(spread.moving_triangles);
+  return std::move(spread_result.moving_triangles);
 }
 
 // The check's verdicts, the Delaunay graph check, the moving triangles and the instance masks

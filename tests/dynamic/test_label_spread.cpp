@@ -47,7 +47,7 @@ Layout wallAndObject() {
 
 TEST(LabelSpread, UnjudgedFeaturesOnAMovingObjectBecomeMovingAndTheWallStaysStill) {
   const Layout l = wallAndObject();
-  const LabelSpreadResult r = spreadMotionLabels(l.uv, l.depth, l.labels, kImage);
+  const LabelSpreadResult r = spreadMotionLabels(buildSurfaceGraph(l.uv, l.depth, kImage), l.labels);
   ASSERT_EQ(r.labels.size(), l.labels.size());
   int object_moving = 0, object_total = 0;
   for (size_t i = 0; i < l.labels.size(); ++i) {
@@ -68,7 +68,7 @@ TEST(LabelSpread, WithoutTheDepthStepMovingLabelsWouldLeakOntoTheWall) {
   // features takes the object's label in places. This is what the depth test prevents.
   Layout l = wallAndObject();
   for (double& z : l.depth) z = 3.0;
-  const LabelSpreadResult r = spreadMotionLabels(l.uv, l.depth, l.labels, kImage);
+  const LabelSpreadResult r = spreadMotionLabels(buildSurfaceGraph(l.uv, l.depth, kImage), l.labels);
   int ring_moving = 0;
   for (size_t i = 0; i < l.labels.size(); ++i) ring_moving += !l.object[i] && r.labels[i] == 1;
   EXPECT_GT(ring_moving, 0);
@@ -82,14 +82,14 @@ TEST(LabelSpread, AnIsolatedMovingFeatureAmongStillOnesIsAMismatch) {
     if (!l.object[i] && l.uv[i].x() == 540 && l.uv[i].y() == 100) lone = i;
   ASSERT_EQ(l.uv[lone], Eigen::Vector2d(540, 100));
   l.labels[lone] = 1;
-  const LabelSpreadResult r = spreadMotionLabels(l.uv, l.depth, l.labels, kImage);
+  const LabelSpreadResult r = spreadMotionLabels(buildSurfaceGraph(l.uv, l.depth, kImage), l.labels);
   EXPECT_EQ(r.labels[lone], 0);
   EXPECT_EQ(r.isolated_cleared, 1);
 }
 
 TEST(LabelSpread, TheMovingAreaIsTheObjectsTriangles) {
   const Layout l = wallAndObject();
-  const LabelSpreadResult r = spreadMotionLabels(l.uv, l.depth, l.labels, kImage);
+  const LabelSpreadResult r = spreadMotionLabels(buildSurfaceGraph(l.uv, l.depth, kImage), l.labels);
   ASSERT_FALSE(r.moving_triangles.empty());
   double area = 0;
   for (const auto& t : r.moving_triangles) {
@@ -108,14 +108,16 @@ TEST(LabelSpread, FeaturesWithoutDepthAreLeftAsTheyAre) {
   Layout l = wallAndObject();
   l.depth[0] = std::numeric_limits<double>::quiet_NaN();  // a wall corner
   l.labels[0] = -1;
-  const LabelSpreadResult r = spreadMotionLabels(l.uv, l.depth, l.labels, kImage);
+  const LabelSpreadResult r = spreadMotionLabels(buildSurfaceGraph(l.uv, l.depth, kImage), l.labels);
   EXPECT_EQ(r.labels[0], -1);
 }
 
 TEST(LabelSpread, MismatchedSizesAreRefused) {
   const Layout l = wallAndObject();
   std::vector<int8_t> short_labels(l.labels.begin(), l.labels.end() - 1);
-  EXPECT_THROW(spreadMotionLabels(l.uv, l.depth, short_labels, kImage), DataError);
+  EXPECT_THROW(spreadMotionLabels(buildSurfaceGraph(l.uv, l.depth, kImage), short_labels), DataError);
+  const std::vector<double> short_depth(l.depth.begin(), l.depth.end() - 1);
+  EXPECT_THROW(buildSurfaceGraph(l.uv, short_depth, kImage), DataError);
 }
 
 // The flood: one flagged feature in the object's corner, the rest of the object unjudged but
@@ -135,7 +137,7 @@ TEST(LabelFlood, OneFlaggedFeatureTakesTheUnjudgedRestOfItsSurfaceAndNotTheWall)
     }
   }
   std::vector<int8_t> labels = l.labels;
-  const int flooded = floodMovingLabels(l.uv, l.depth, {seed}, kImage, LabelSpreadOptions{}, &labels);
+  const int flooded = floodMovingLabels(buildSurfaceGraph(l.uv, l.depth, kImage), {seed}, &labels);
   EXPECT_EQ(flooded, object_unjudged);
   for (size_t i = 0; i < labels.size(); ++i) {
     if (!l.object[i]) EXPECT_EQ(labels[i], l.labels[i]) << "wall feature " << i;
@@ -143,7 +145,7 @@ TEST(LabelFlood, OneFlaggedFeatureTakesTheUnjudgedRestOfItsSurfaceAndNotTheWall)
     else EXPECT_EQ(labels[i], 1) << "object feature " << i;
   }
   std::vector<int8_t> too_few(3, -1);
-  EXPECT_THROW(floodMovingLabels(l.uv, l.depth, {}, kImage, {}, &too_few), DataError);
+  EXPECT_THROW(floodMovingLabels(buildSurfaceGraph(l.uv, l.depth, kImage), {}, &too_few), DataError);
 }
 
 }  // namespace
