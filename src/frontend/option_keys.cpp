@@ -43,6 +43,8 @@ void bindTrackerOptions(OptionTable* t, TrackerOptions* o) {
           "when the motion model fails, match the reference keyframe through the vocabulary before giving up");
   t->bind("tracker.wide_fallback_factor", &tr.wide_fallback_factor,
           "then search the prediction in a window this many times wider (<= 1: no)");
+  t->bind("tracker.relocalisation_fallback", &tr.relocalisation_fallback,
+          "then relocalise this frame over the whole map (the last pose may be wrong: no speed limit) before giving up");
   t->bind("tracker.min_vocabulary_matches", &tr.min_vocabulary_matches,
           "point + line matches a keyframe needs for a fallback or relocalisation attempt");
   t->bind("tracker.min_pnp_points", &tr.min_pnp_points, "point matches (and PnP inliers) needed for a PnP pose (fewer: start from the prediction, lines carry the pose)");

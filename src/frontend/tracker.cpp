@@ -131,7 +131,7 @@ TrackingResult Tracker::trackInitialised(TimeNs t_ns, const FrameFeatures& f) {
     have_velocity_ = false;
     return r;
   }
-  const bool relocalised = lost_;
+  const bool relocalised = lost_ || r.method == TrackingMethod::kRelocalisation;
   if (lost_) {
     ++relocalisations_;
     kLog.info(str("relocalised at t=", formatSecondsStamp(t_ns)));
@@ -195,6 +195,13 @@ Tracker::Attempt Tracker::trackFromLastPose(double dt_s, const FrameFeatures& f,
     a = plausible(trackWithPrediction(local, predicted, options_.wide_radius_px * options_.wide_fallback_factor, f, m));
     if (a.ok) r->method = TrackingMethod::kWideWindow;
     else why += "; wide window: " + a.reason;
+  }
+  // The last pose itself may be wrong (a walker dragged it), and then every attempt above is
+  // searched around it or refused by the speed limit: place recognition does not need it.
+  if (!a.ok && options_.relocalisation_fallback) {
+    a = relocalize(f, m);
+    if (a.ok) r->method = TrackingMethod::kRelocalisation;
+    else why += "; " + a.reason;
   }
   if (a.ok) {
     r->inliers = a.inliers;

@@ -62,7 +62,7 @@ enum class TrackingMethod {
   kMotionModel,        ///< constant-velocity prediction, projection search
   kReferenceKeyframe,  ///< fallback 1: vocabulary matches with the reference keyframe
   kWideWindow,         ///< fallback 2: the prediction searched in a wider window
-  kRelocalisation,     ///< place recognition after a loss
+  kRelocalisation,     ///< place recognition after a loss, or fallback 3 before one
   kReanchor,           ///< a new keyframe from the frame's depth at the last tracked pose, after a long loss
 };
 constexpr int kTrackingMethodCount = 7;
@@ -100,6 +100,7 @@ struct TrackerOptions {
   double max_speed_m_s = 4.0;
   bool reference_fallback = true;
   double wide_fallback_factor = 3.0;
+  bool relocalisation_fallback = true;  ///< last fallback: place recognition on this frame, before "lost"
   int min_vocabulary_matches = 15;
   int min_pnp_points = 12;
   int pnp_iterations = 200;

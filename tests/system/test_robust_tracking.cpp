@@ -40,6 +40,7 @@ SystemOptions withoutFallbacks() {
   SystemOptions o = sequentialNoLoop();
   o.tracker.reference_fallback = false;
   o.tracker.wide_fallback_factor = 1.0;
+  o.tracker.relocalisation_fallback = false;
   return o;
 }
 
@@ -118,13 +119,30 @@ TEST(RobustTracking, APoseThatWouldNeedAnImpossibleSpeedIsRefused) {
   // fallback finds is right, yet the camera would have moved at several metres a second.
   std::vector<int> order = range(0, 50);
   for (int i : range(70, 120)) order.push_back(i);
-  const Fed gated = feed(seq, order, sequentialNoLoop(), true);
+  SystemOptions no_relocalisation = sequentialNoLoop();
+  no_relocalisation.tracker.relocalisation_fallback = false;  // it has no speed limit (next test)
+  const Fed gated = feed(seq, order, no_relocalisation, true);
   EXPECT_FALSE(isTracked(gated.results[50].status));
   EXPECT_NE(gated.results[50].reason.find("a jump of"), std::string::npos) << gated.results[50].reason;
-  SystemOptions fast_camera = sequentialNoLoop();
+  SystemOptions fast_camera = no_relocalisation;
   fast_camera.tracker.max_speed_m_s = 100;
   const Fed ungated = feed(seq, order, fast_camera, true);
   EXPECT_TRUE(isTracked(ungated.results[50].status)) << ungated.results[50].reason;
+}
+
+// The last pose may itself be wrong (a walker dragged it): every attempt around it is then
+// refused, and place recognition, which needs no prediction, places the frame at once, so no
+// frame is lost. Stand-in for the wrong last pose: the same gap stamped one period apart.
+TEST(RobustTracking, AFrameEveryPredictionFailsOnIsRelocalisedAtOnceInsteadOfLost) {
+  const Sequence seq = render(synth::SceneKind::kStatic, 120, 640, 480);
+  std::vector<int> order = range(0, 50);
+  for (int i : range(70, 120)) order.push_back(i);
+  const Fed fed = feed(seq, order, sequentialNoLoop(), true);
+  EXPECT_EQ(fed.stats.lost_events, 0);
+  EXPECT_EQ(fed.stats.tracked, static_cast<int>(order.size()));
+  EXPECT_EQ(fed.results[50].method, TrackingMethod::kRelocalisation) << fed.results[50].reason;
+  EXPECT_LT(relativeError(seq, fed, 49, 50), 0.01) << "the motion across the gap";
+  EXPECT_LT(relativeError(seq, fed, 49, order.size() - 1), 0.02) << "the velocity after it starts afresh";
 }
 
 TEST(RobustTracking, ALostCameraIsRelocalisedByPlaceRecognitionFarFromTheRecentKeyframes) {
