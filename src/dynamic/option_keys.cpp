@@ -96,7 +96,7 @@ void bindMaskPropagationOptions(OptionTable* t, const std::string& p, MaskPropag
 }
 
 void bindFreeSpaceOptions(OptionTable* t, const std::string& p, FreeSpaceOptions* o) {
-  t->bind(p + "enabled", &o->enabled, "flag unmatched keypoints in space the earlier depth image saw empty, and the unjudged rest of their surface (off: costs 2-3 ms a frame)");
+  t->bind(p + "enabled", &o->enabled, "flag unmatched keypoints in space the earlier depth image saw empty, and the unjudged rest of their surface (off: on static fr1_xyz it rejects 43 % of the keypoints, against 12 %)");
   t->bind(p + "window_radius_px", &o->window_radius_px,
           "the earlier depth is the nearest within this many pixels of the projection", atLeast(0));
   t->bind(p + "sigmas", &o->sigmas, "a keypoint must be this many depth-noise sigmas in front of it", above(0));
