@@ -20,6 +20,23 @@ uint64_t pixelKey(float x, float y) {
   std::memcpy(&by, &y, sizeof by);
   return (static_cast<uint64_t>(bx) << 32) | by;
 }
+// Subdiv2D finds each new point's triangle by walking from the last one inserted, so points
+// given in a snake over bands of rows keep each walk short (the order ORB returns keypoints
+// in, level by level, jumps across the image).
+std::vector<int> snakeOrder(const std::vector<cv::Point2f>& points) {
+  constexpr float kBandPx = 32.0f;
+  std::vector<int> order(points.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = static_cast<int>(k);
+  auto band = [&](int k) { return static_cast<int>(points[k].y / kBandPx); };
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    const int ba = band(a), bb = band(b);
+    if (ba != bb) return ba < bb;
+    if (points[a].x != points[b].x) return (ba % 2 == 0) == (points[a].x < points[b].x);
+    return a < b;
+  });
+  return order;
+}
+
 }  // namespace
 
 DelaunayGraph triangulateFeatures(const std::vector<cv::Point2f>& pixels, const std::vector<int>& index,
@@ -37,7 +54,7 @@ DelaunayGraph triangulateFeatures(const std::vector<cv::Point2f>& pixels, const 
   }
   if (g.vertices.size() < 3) return g;
   cv::Subdiv2D subdiv(cv::Rect(0, 0, image.width, image.height));
-  for (const cv::Point2f& p : distinct) subdiv.insert(p);
+  for (int k : snakeOrder(distinct)) subdiv.insert(distinct[k]);
   auto lookup = [&](float x, float y) {
     const auto it = index_at.find(pixelKey(x, y));
     return it == index_at.end() ? -1 : it->second;  // -1: a virtual outer vertex
