@@ -164,6 +164,8 @@ PointGrid::PointGrid(std::vector<Eigen::Vector2d> points, int width, int height,
   order_.resize(points_.size());
   std::vector<int> fill(start_.begin(), start_.end() - 1);
   for (size_t i = 0; i < points_.size(); ++i) order_[static_cast<size_t>(fill[static_cast<size_t>(cell_of[i])]++)] = static_cast<int>(i);
+  cell_points_.reserve(points_.size());
+  for (int i : order_) cell_points_.push_back(points_[static_cast<size_t>(i)]);
 }
 
 void PointGrid::query(const Eigen::Vector2d& c, double radius, std::vector<int>* out) const {
@@ -174,13 +176,11 @@ void PointGrid::query(const Eigen::Vector2d& c, double radius, std::vector<int>*
   const int y0 = clampCell((c.y() - radius) / cell_, rows_), y1 = clampCell((c.y() + radius) / cell_, rows_);
   const double r2 = radius * radius;
   for (int y = y0; y <= y1; ++y) {
-    for (int x = x0; x <= x1; ++x) {
-      const size_t cell = static_cast<size_t>(y) * cols_ + x;
-      for (int k = start_[cell]; k < start_[cell + 1]; ++k) {
-        const int i = order_[static_cast<size_t>(k)];
-        if ((points_[static_cast<size_t>(i)] - c).squaredNorm() <= r2) out->push_back(i);
-      }
-    }
+    // Cells x0..x1 of a row are consecutive in order_.
+    const size_t row = static_cast<size_t>(y) * cols_;
+    const int end = start_[row + x1 + 1];
+    for (int k = start_[row + x0]; k < end; ++k)
+      if ((cell_points_[static_cast<size_t>(k)] - c).squaredNorm() <= r2) out->push_back(order_[static_cast<size_t>(k)]);
   }
   std::sort(out->begin(), out->end());
 }

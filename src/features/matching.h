@@ -76,6 +76,7 @@ class PointGrid {
   int cols_ = 0, rows_ = 0, cell_ = 16;
   std::vector<int> start_;  ///< cell c holds order_[start_[c] .. start_[c + 1])
   std::vector<int> order_;
+  std::vector<Eigen::Vector2d> cell_points_;  ///< points_[order_[k]]: a query reads them in a row
 };
 
 /// Where a landmark point should appear in the frame.
