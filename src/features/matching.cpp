@@ -179,8 +179,10 @@ void PointGrid::query(const Eigen::Vector2d& c, double radius, std::vector<int>*
     // Cells x0..x1 of a row are consecutive in order_.
     const size_t row = static_cast<size_t>(y) * cols_;
     const int end = start_[row + x1 + 1];
-    for (int k = start_[row + x0]; k < end; ++k)
-      if ((cell_points_[static_cast<size_t>(k)] - c).squaredNorm() <= r2) out->push_back(order_[static_cast<size_t>(k)]);
+    for (int k = start_[row + x0]; k < end; ++k) {
+      const size_t slot = static_cast<size_t>(k);
+      if ((cell_points_[slot] - c).squaredNorm() <= r2) out->push_back(order_[slot]);
+    }
   }
   std::sort(out->begin(), out->end());
 }
