@@ -10,10 +10,6 @@ namespace plslam {
 
 namespace {
 
-double depthSigma(double z, const PointNoiseOptions& noise) {
-  return noise.depth_sigma_quadratic * z * z + noise.depth_sigma_constant;
-}
-
 // The nearest depth in the square window around raw pixel `uv`, NaN when too few of its pixels
 // have one (or the window leaves the image).
 double nearestDepthAround(const cv::Mat& depth, const Eigen::Vector2d& uv, const FreeSpaceOptions& options) {
@@ -50,7 +46,7 @@ std::vector<uint8_t> pointsInEarlierFreeSpace(const std::vector<Eigen::Vector3d>
     if (q.z() <= 0) continue;
     const double seen = nearestDepthAround(earlier_depth_m, camera.project(q), options);
     if (!std::isfinite(seen)) continue;
-    const double sigma = std::hypot(depthSigma(q.z(), noise), depthSigma(seen, noise));
+    const double sigma = std::hypot(noise.depthSigma(q.z()), noise.depthSigma(seen));
     in_free_space[i] = seen - q.z() > std::max(options.min_gap_m, options.sigmas * sigma);
   }
   return in_free_space;

@@ -176,7 +176,7 @@ Eigen::Matrix3d pointCovariance(const PinholeCamera& camera, const Eigen::Vector
   Eigen::Matrix3d J;
   J << z / camera.fx, 0, (uv.x() - camera.cx) / camera.fx, 0, z / camera.fy, (uv.y() - camera.cy) / camera.fy, 0, 0, 1;
   const double sp = noise.pixel_sigma * pixel_sigma_scale;
-  const double sz = noise.depth_sigma_quadratic * z * z + noise.depth_sigma_constant;
+  const double sz = noise.depthSigma(z);
   const Eigen::Vector3d d(sp * sp, sp * sp, sz * sz);
   return J * d.asDiagonal() * J.transpose();
 }

@@ -60,6 +60,9 @@ struct PointNoiseOptions {
   double pixel_sigma = 1.0;
   double depth_sigma_quadratic = 0.0025;
   double depth_sigma_constant = 0.002;
+
+  /// Standard deviation (m) of a depth reading of z metres.
+  double depthSigma(double z) const { return depth_sigma_quadratic * z * z + depth_sigma_constant; }
 };
 
 /// Covariance (camera frame, m^2) of the point back-projected from ideal pixel `uv` at depth z.

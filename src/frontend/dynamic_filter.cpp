@@ -380,12 +380,12 @@ DynamicFilter::CheckedMatches DynamicFilter::checkAgainstHistory(const RgbdFrame
 
 // Keypoints the check left unjudged that lie where the earlier frame saw empty space are
 // moving (free_space_check.h), and so is the unjudged rest of their surface (the flood over
-// `graph`); they are labelled so before the labels spread. Returns how many. Off by default:
+// `graph`); they are labelled so before the labels spread. Off by default:
 // it helped every row measured, but on static fr1 it rejects 43 % of the keypoints (12 % off)
-// (outlines whose depth is off look like arrivals; docs/RESULTS.md, "Free space in the
+// (probably outlines whose depth is off look like arrivals; docs/RESULTS.md, "Free space in the
 // earlier depth image").
-int DynamicFilter::flagArrivals(const FrameFeatures& f, const SurfaceGraph& graph, const CheckedMatches& checked,
-                                std::vector<int8_t>* point_motion) const {
+void DynamicFilter::flagArrivals(const FrameFeatures& f, const SurfaceGraph& graph, const CheckedMatches& checked,
+                                 std::vector<int8_t>* point_motion) const {
   std::vector<int> unjudged;
   std::vector<Eigen::Vector3d> points;
   for (size_t k = 0; k < f.points.size(); ++k) {
@@ -403,8 +403,7 @@ int DynamicFilter::flagArrivals(const FrameFeatures& f, const SurfaceGraph& grap
       (*point_motion)[unjudged[i]] = 1;
       seeds.push_back(unjudged[i]);
     }
-  const int flagged = static_cast<int>(seeds.size());
-  return flagged + floodMovingLabels(graph, std::move(seeds), point_motion);
+  floodMovingLabels(graph, std::move(seeds), point_motion);
 }
 
 // Per keypoint labels from the check (r->point_motion; also into `checked_labels`), flagged

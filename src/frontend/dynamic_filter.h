@@ -172,8 +172,8 @@ class DynamicFilter {
   void logFrame(const CheckedMatches& checked, const DynamicFrameResult& r, size_t points_left) const;
   CheckedMatches checkAgainstHistory(const RgbdFrame& frame, const FrameFeatures& f,
                                      const std::optional<SE3>& prior_T_cur_prev);
-  int flagArrivals(const FrameFeatures& f, const SurfaceGraph& graph, const CheckedMatches& checked,
-                   std::vector<int8_t>* point_motion) const;
+  void flagArrivals(const FrameFeatures& f, const SurfaceGraph& graph, const CheckedMatches& checked,
+                    std::vector<int8_t>* point_motion) const;
   void workerLoop();
 
   PinholeCamera camera_;

@@ -7,19 +7,12 @@
 
 #include "core/error.h"
 #include "dynamic/free_space_check.h"
+#include "synth/scene.h"
 
 namespace plslam {
 namespace {
 
-PinholeCamera camera() {
-  PinholeCamera c;
-  c.width = 640;
-  c.height = 480;
-  c.fx = c.fy = 525.0;
-  c.cx = 319.5;
-  c.cy = 239.5;
-  return c;
-}
+PinholeCamera camera() { return synth::syntheticCamera(640, 480); }  // fx = fy = 525, centre (319.5, 239.5)
 
 // The earlier frame saw a wall at 3 m, a box at 1.5 m over columns 300-339, and nothing
 // (no depth) over columns 500-539.
