@@ -39,11 +39,12 @@ void checkRows(const cv::Mat& d, size_t n, const char* what) {
     throw DataError(str("features: ", n, " ", what, " but ", d.rows, " descriptor rows"));
 }
 
-// Best and second-best distance over distinct candidates.
+// The closest candidate (ties: the lower index) and the second-closest distance. The result
+// does not depend on the order of the offers, so a grid query need not sort its candidates.
 struct Best {
   int distance = INT_MAX, second = INT_MAX, index = -1;
   void offer(int d, int i) {
-    if (d < distance) {
+    if (d < distance || (d == distance && i < index)) {
       second = distance;
       distance = d;
       index = i;
@@ -184,7 +185,6 @@ void PointGrid::query(const Eigen::Vector2d& c, double radius, std::vector<int>*
       if ((cell_points_[slot] - c).squaredNorm() <= r2) out->push_back(order_[slot]);
     }
   }
-  std::sort(out->begin(), out->end());
 }
 
 std::vector<DescriptorMatch> matchPointsByProjection(const std::vector<PointPrediction>& predictions,

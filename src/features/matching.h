@@ -66,7 +66,8 @@ class PointGrid {
  public:
   PointGrid() = default;
   PointGrid(std::vector<Eigen::Vector2d> points, int width, int height, int cell_size = 16);
-  /// Indices of the points within `radius` of `centre` (Euclidean), ascending.
+  /// Indices of the points within `radius` of `centre` (Euclidean), cell by cell: not sorted
+  /// (the matchers' choices do not depend on the order).
   void query(const Eigen::Vector2d& centre, double radius, std::vector<int>* out) const;
   const std::vector<Eigen::Vector2d>& points() const { return points_; }
   size_t size() const { return points_.size(); }

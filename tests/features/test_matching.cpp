@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <opencv2/core.hpp>
 
@@ -140,6 +141,7 @@ TEST(Matching, PointGridAgreesWithBruteForce) {
     const Vector2d c(rng.uniform(-60.0, 700.0), rng.uniform(-60.0, 540.0));
     const double r = rng.uniform(0.0, 40.0);
     grid.query(c, r, &got);
+    std::sort(got.begin(), got.end());
     std::vector<int> want;
     for (size_t i = 0; i < pts.size(); ++i)
       if ((pts[i] - c).squaredNorm() <= r * r) want.push_back(int(i));
@@ -148,6 +150,25 @@ TEST(Matching, PointGridAgreesWithBruteForce) {
   PointGrid empty;
   empty.query({1, 1}, 100, &got);
   EXPECT_TRUE(got.empty());
+}
+
+// The grid returns candidates cell by cell, not by index: an equally close look-alike in an
+// earlier cell must not win over the lower index.
+TEST(Matching, ProjectionTiesGoToTheLowerIndexWhicheverCellComesFirst) {
+  cv::Mat descriptors(3, 32, CV_8U, cv::Scalar(0x5A));
+  descriptors.row(2).setTo(0xA5);  // far from the query: only there to be an index
+  // Keypoint 0 lies in a later row of cells than keypoint 1; both have the query's descriptor.
+  const std::vector<Vector2d> uv = {{100, 140}, {130, 100}, {110, 110}};
+  const PointGrid grid(uv, 640, 480, 16);
+  std::vector<PointPrediction> pred = {{{110, 120}, -1}};
+  const cv::Mat query(1, 32, CV_8U, cv::Scalar(0x5A));
+  PointProjectionOptions o;
+  o.radius_px = 40;
+  o.ratio = 1.0f;  // a tie is not ambiguous here: the test is about which one wins
+  const std::vector<DescriptorMatch> m = matchPointsByProjection(pred, query, grid, {}, descriptors, o);
+  ASSERT_EQ(m.size(), 1u);
+  EXPECT_EQ(m[0].train, 0);
+  EXPECT_EQ(m[0].distance, 0);
 }
 
 TEST(Matching, ProjectionWithExactPredictionsRecoversThePairs) {
