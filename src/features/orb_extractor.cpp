@@ -96,23 +96,23 @@ float intensityCentroidAngle(const cv::Mat& img, int x, int y) {
 
 // Keeps at most `target` candidates spread over the region: splits the most populated
 // quadtree node until there are `target` nodes, then keeps the strongest of each node.
+// The nodes are ranges of one index array, partitioned in place on each split (no vector per
+// node); ties between equally strong candidates go to the lower index, whatever the order in
+// the range.
 std::vector<int> distributeQuadtree(const std::vector<Candidate>& c, int target, float x0, float y0, float x1, float y1) {
   std::vector<int> out;
   if (target <= 0 || c.empty()) return out;
-  if (static_cast<int>(c.size()) <= target) {
-    out.resize(c.size());
-    for (size_t i = 0; i < c.size(); ++i) out[i] = static_cast<int>(i);
-    return out;
-  }
+  std::vector<int> idx(c.size());
+  for (size_t i = 0; i < c.size(); ++i) idx[i] = static_cast<int>(i);
+  if (static_cast<int>(c.size()) <= target) return idx;
   struct Node {
     float x0, y0, x1, y1;
-    std::vector<int> idx;
+    int begin, end;  // its candidates: idx[begin, end)
     bool alive = true;
+    int count() const { return end - begin; }
   };
   std::vector<Node> nodes;
-  nodes.push_back({x0, y0, x1, y1, {}, true});
-  nodes[0].idx.resize(c.size());
-  for (size_t i = 0; i < c.size(); ++i) nodes[0].idx[i] = static_cast<int>(i);
+  nodes.push_back({x0, y0, x1, y1, 0, static_cast<int>(c.size()), true});
   // Most points first; among equals the oldest node, so the order is deterministic.
   using Entry = std::pair<int, int>;  // (count, -node index)
   std::priority_queue<Entry> heap;
@@ -121,28 +121,35 @@ std::vector<int> distributeQuadtree(const std::vector<Candidate>& c, int target,
   while (leaves < target && !heap.empty()) {
     const int n = -heap.top().second;
     heap.pop();
-    const Node parent = std::move(nodes[n]);
-    nodes[n].alive = false;
-    nodes[n].idx.clear();
+    nodes[static_cast<size_t>(n)].alive = false;
+    const Node parent = nodes[static_cast<size_t>(n)];
     const float mx = 0.5f * (parent.x0 + parent.x1), my = 0.5f * (parent.y0 + parent.y1);
-    std::array<Node, 4> child = {Node{parent.x0, parent.y0, mx, my, {}, true}, Node{mx, parent.y0, parent.x1, my, {}, true},
-                                 Node{parent.x0, my, mx, parent.y1, {}, true}, Node{mx, my, parent.x1, parent.y1, {}, true}};
-    for (int i : parent.idx) child[(c[i].x < mx ? 0 : 1) + (c[i].y < my ? 0 : 2)].idx.push_back(i);
+    auto first = idx.begin() + parent.begin, last = idx.begin() + parent.end;
+    const auto bottom = std::partition(first, last, [&](int i) { return c[static_cast<size_t>(i)].y < my; });
+    const auto isLeft = [&](int i) { return c[static_cast<size_t>(i)].x < mx; };
+    const auto top_right = std::partition(first, bottom, isLeft);
+    const auto bottom_right = std::partition(bottom, last, isLeft);
+    auto at = [&](std::vector<int>::iterator it) { return static_cast<int>(it - idx.begin()); };
+    const std::array<Node, 4> child = {Node{parent.x0, parent.y0, mx, my, parent.begin, at(top_right)},
+                                       Node{mx, parent.y0, parent.x1, my, at(top_right), at(bottom)},
+                                       Node{parent.x0, my, mx, parent.y1, at(bottom), at(bottom_right)},
+                                       Node{mx, my, parent.x1, parent.y1, at(bottom_right), parent.end}};
     --leaves;
-    for (Node& ch : child) {
-      if (ch.idx.empty()) continue;
+    for (const Node& ch : child) {
+      if (ch.count() == 0) continue;
       ++leaves;
-      const int count = static_cast<int>(ch.idx.size());
-      const bool splittable = count > 1 && (ch.x1 - ch.x0) > 1.0f && (ch.y1 - ch.y0) > 1.0f;
-      nodes.push_back(std::move(ch));
-      if (splittable) heap.push({count, -static_cast<int>(nodes.size() - 1)});
+      const bool splittable = ch.count() > 1 && (ch.x1 - ch.x0) > 1.0f && (ch.y1 - ch.y0) > 1.0f;
+      nodes.push_back(ch);
+      if (splittable) heap.push({ch.count(), -static_cast<int>(nodes.size() - 1)});
     }
   }
   for (const Node& nd : nodes) {
-    if (!nd.alive || nd.idx.empty()) continue;
-    int best = nd.idx[0];
-    for (int i : nd.idx)
-      if (c[i].response > c[best].response) best = i;  // ties: the first (lowest index)
+    if (!nd.alive || nd.count() == 0) continue;
+    int best = idx[static_cast<size_t>(nd.begin)];
+    for (int k = nd.begin; k < nd.end; ++k) {
+      const int i = idx[static_cast<size_t>(k)];
+      if (c[i].response > c[best].response || (c[i].response == c[best].response && i < best)) best = i;
+    }
     out.push_back(best);
   }
   if (static_cast<int>(out.size()) > target) {
