@@ -76,6 +76,53 @@ void sortLongestFirst(std::vector<LineSegment2D>* segs) {
   std::stable_sort(segs->begin(), segs->end(), [](const LineSegment2D& a, const LineSegment2D& b) { return a.length > b.length; });
 }
 
+// The segments by direction, in buckets at least the merge angle wide, so that a segment is
+// tested only against those whose direction is in its own or a neighbouring bucket: a
+// superset of the pairs within the merge angle (the exact test still decides). Without it
+// the merge tested every pair of a frame's raw segments on every pass.
+class DirectionBuckets {
+ public:
+  DirectionBuckets(const std::vector<Eigen::Vector2d>& dirs, double max_angle_rad) {
+    constexpr double kMargin = 1e-3;  // radians: the atan2 bucket index never decides a pair alone
+    // At least 3 buckets, so that the three searched are distinct (the option range keeps the
+    // angle under 45 degrees: 7 buckets or more).
+    count_ = std::clamp(static_cast<int>(std::floor(2 * CV_PI / (max_angle_rad + kMargin))), 3, 720);
+    members_.resize(static_cast<size_t>(count_));
+    bucket_.resize(dirs.size());
+    for (size_t i = 0; i < dirs.size(); ++i) add(static_cast<int>(i), dirs[i]);
+  }
+  void move(int i, const Eigen::Vector2d& dir) {
+    remove(i);
+    add(i, dir);
+  }
+  void remove(int i) {
+    std::vector<int>& m = members_[static_cast<size_t>(bucket_[static_cast<size_t>(i)])];
+    m.erase(std::find(m.begin(), m.end(), i));
+  }
+  /// The segments after `after` whose direction may be within the angle of `dir`, ascending.
+  void near(const Eigen::Vector2d& dir, int after, std::vector<int>* out) const {
+    out->clear();
+    const int b = bucketOf(dir);
+    for (int k = -1; k <= 1; ++k)
+      for (int j : members_[static_cast<size_t>((b + k + count_) % count_)])
+        if (j > after) out->push_back(j);
+    std::sort(out->begin(), out->end());
+  }
+
+ private:
+  int bucketOf(const Eigen::Vector2d& d) const {
+    const double a = std::atan2(d.y(), d.x()) + CV_PI;  // [0, 2 pi]
+    return std::min(count_ - 1, static_cast<int>(a / (2 * CV_PI) * count_));
+  }
+  void add(int i, const Eigen::Vector2d& dir) {
+    bucket_[static_cast<size_t>(i)] = bucketOf(dir);
+    members_[static_cast<size_t>(bucket_[static_cast<size_t>(i)])].push_back(i);
+  }
+  int count_ = 1;
+  std::vector<std::vector<int>> members_;
+  std::vector<int> bucket_;
+};
+
 }  // namespace
 
 std::vector<LineSegment2D> mergeSegments(std::vector<LineSegment2D> segs, const LineOptions& o) {
@@ -87,13 +134,17 @@ std::vector<LineSegment2D> mergeSegments(std::vector<LineSegment2D> segs, const 
   std::vector<Eigen::Vector2d> dir(n);
   for (size_t i = 0; i < n; ++i)
     dir[i] = segs[i].length > 0 ? Eigen::Vector2d((segs[i].q - segs[i].p) / segs[i].length) : Eigen::Vector2d::Zero();
+  DirectionBuckets buckets(dir, o.merge_angle_deg * CV_PI / 180.0);
   std::vector<char> dead(n, 0);
+  std::vector<int> candidates;
   bool changed = true;
   for (int pass = 0; changed && pass < 100; ++pass) {
     changed = false;
     for (size_t i = 0; i < n; ++i) {
       if (dead[i]) continue;
-      for (size_t j = 0; j < n; ++j) {
+      buckets.near(dir[i], -1, &candidates);
+      for (size_t k = 0; k < candidates.size(); ++k) {
+        const size_t j = static_cast<size_t>(candidates[k]);
         if (j == i || dead[j] || dir[i].dot(dir[j]) < cos_max) continue;
         // Join into the longer one; equal lengths: into the earlier one.
         if (segs[j].length > segs[i].length || (segs[j].length == segs[i].length && j < i)) continue;
@@ -103,6 +154,11 @@ std::vector<LineSegment2D> mergeSegments(std::vector<LineSegment2D> segs, const 
         dir[i] = (joined.q - joined.p) / std::max(1e-9f, joined.length);
         dead[j] = 1;
         changed = true;
+        buckets.remove(static_cast<int>(j));
+        buckets.move(static_cast<int>(i), dir[i]);
+        // The rest of the search follows the new direction, as the scan over all j did.
+        buckets.near(dir[i], static_cast<int>(j), &candidates);
+        k = static_cast<size_t>(-1);  // the loop's ++k starts the new list
       }
     }
   }

@@ -58,6 +58,23 @@ TEST(Lines, MergeJoinsCollinearFragments) {
   EXPECT_EQ(mergeSegments(segs, wide).size(), 4u);
 }
 
+// Directions are bucketed by angle: fragments pointing just either side of 180 degrees lie
+// in the first and the last bucket, and must still be tried against each other.
+TEST(Lines, MergeJoinsFragmentsWhoseDirectionsStraddleTheAngleWrap) {
+  const double tilt = 0.5 * CV_PI / 180.0;  // each fragment 0.5 degrees off the -x axis
+  const Vector2d start(400, 200);
+  const Vector2d d1(-std::cos(tilt), std::sin(tilt)), d2(-std::cos(tilt), -std::sin(tilt));
+  std::vector<LineSegment2D> segs;
+  segs.push_back(LineSegment2D::fromEndpoints(start, start + 100 * d1));
+  const Vector2d second = start + 100 * d1 + Vector2d(-4, 0);
+  segs.push_back(LineSegment2D::fromEndpoints(second, second + 80 * d2));
+  ASSERT_GT(std::atan2(segs[0].q.y() - segs[0].p.y(), segs[0].q.x() - segs[0].p.x()), 0.99 * CV_PI);
+  ASSERT_LT(std::atan2(segs[1].q.y() - segs[1].p.y(), segs[1].q.x() - segs[1].p.x()), -0.99 * CV_PI);
+  const std::vector<LineSegment2D> out = mergeSegments(segs, LineOptions());
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_NEAR(out[0].length, 184.0, 1.0);
+}
+
 TEST(Lines, DetectionJoinsTheFragmentsOfADrawnEdge) {
   // A dark slanted band whose edges are cut by small bright discs: LSD returns pieces.
   cv::Mat img(480, 640, CV_8U, cv::Scalar(200));
