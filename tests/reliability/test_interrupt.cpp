@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <thread>
 
@@ -106,4 +107,57 @@ TEST(Interrupt, CtrlCAtAnyMomentLeavesEveryOutputAbsentOrComplete) {
     for (const auto& e : fs::directory_iterator(out))
       EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << "temporary file left: " << e.path();
   }
+}
+
+namespace {
+
+// True once `pid` catches SIGINT (its handler is installed): /proc/PID/status, SigCgt.
+bool catchesSigint(pid_t pid) {
+  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("SigCgt:", 0) == 0) return (std::stoull(line.substr(7), nullptr, 16) >> (SIGINT - 1)) & 1ULL;
+  return false;
+}
+
+}  // namespace
+
+// A user who presses Ctrl-C again while the run winds down (joins its threads, writes its
+// outputs) must not cut it short: every output is written whole. (The last presses may still
+// end the process by the default action once the outputs are out, as it exits.)
+TEST(Interrupt, CtrlCPressedAgainWhileTheOutputsAreWrittenDoesNotCutThemShort) {
+  const std::string data = test::syntheticSequence(synth::SceneKind::kStatic, 120);
+  const std::string out = test::scratchDir("interrupt_again") + "/out";
+  fs::create_directories(out);
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const std::string exe = test::binaryDir() + "/plslam";
+    const std::string calib = data + "/camera.xml";
+    execl(exe.c_str(), exe.c_str(), "run", "--dataset", data.c_str(), "--calib", calib.c_str(), "--out", out.c_str(),
+          "--quiet", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (!catchesSigint(pid) && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  ASSERT_TRUE(catchesSigint(pid)) << "plslam run never installed its Ctrl-C handler";
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // into the tracking
+  int status = 0;
+  // Ctrl-C every 10 ms until it has ended: the first stops the frames, the others come
+  // while it finishes.
+  while (waitpid(pid, &status, WNOHANG) == 0) {
+    kill(pid, SIGINT);
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_TRUE((WIFEXITED(status) && WEXITSTATUS(status) == 130) || (WIFSIGNALED(status) && WTERMSIG(status) == SIGINT))
+      << "status " << status;
+  for (const char* f : kOutputs) {
+    const std::string path = out + "/" + f;
+    if (std::string(f) == "map.plmap") continue;  // written only when asked for or by default: checked if there
+    ASSERT_TRUE(fs::exists(path)) << path;
+    EXPECT_EQ(problemWith(path), "") << path;
+  }
+  for (const auto& e : fs::directory_iterator(out))
+    EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << "temporary file left: " << e.path();
 }

@@ -101,13 +101,13 @@ int runLiveCommand(int argc, char** argv) {
   recording.depth_scale = grabber->intrinsics().depth_scale;
 
   const std::string out = args.str("out");
+  SigintGuard sigint;  // as in plslam run: made before the session, so Ctrl-C never cuts its end short
   MappingSession session(camera, &config, out, !args.has("no-dense") && config.options.dense.enabled);
   System& slam = session.slam();
   session.start();
   const bool progress = !args.has("quiet");
   LiveStats stats;
   {
-    SigintGuard sigint;
     ProgressLine line("live");
     stats = runLive(
         grabber.get(), &slam, live, [] { return SigintGuard::interrupted(); },

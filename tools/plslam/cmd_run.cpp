@@ -133,13 +133,16 @@ int runRun(int argc, char** argv) {
       throw IoError(out + ": cannot create the output folder" + (ec ? " (" + ec.message() + ")" : std::string()));
   }
 
+  // Ctrl-C stops the frames; from then on it must not end the process, which would leave a
+  // half-written file (a live map update finishing, say). Made before the session, so that
+  // it outlives the session's threads too.
+  SigintGuard sigint;
   MappingSession session(camera, &config, out, !args.has("no-dense") && options.dense.enabled);
   System& slam = session.slam();
   session.start();
   const bool progress = !args.has("quiet");
   FeedResult fed;
   {
-    SigintGuard sigint;
     ProgressLine line("run");
     fed = feedFrames(&slam, &dataset, [&](const FeedProgress& p) {
       if (!progress) return;

@@ -34,7 +34,8 @@ std::vector<InstanceClass> replayLabels(const TumDataset& dataset);
 
 
 /// While an instance lives, Ctrl-C sets interrupted() instead of ending the process; the
-/// previous handler is restored on destruction. One instance at a time.
+/// previous handler is restored on destruction. A guard made inside another (the dense
+/// maps' within a run's) clears interrupted() and hands the outer one back its handler.
 class SigintGuard {
  public:
   SigintGuard();
