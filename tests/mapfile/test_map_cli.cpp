@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <filesystem>
@@ -55,15 +54,8 @@ TEST(MapCli, BadMapArgumentsAreRefusedWithTheReason) {
 TEST(MapCli, CtrlCLeavesACompleteMap) {
   const std::string data = test::syntheticSequence(synth::SceneKind::kStatic, 120);
   const std::string out = test::scratchDir("mapcli_sigint") + "/out";
-  const pid_t pid = fork();
-  ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    const std::string exe = test::binaryDir() + "/plslam";
-    const std::string calib = data + "/camera.xml";
-    execl(exe.c_str(), exe.c_str(), "run", "--dataset", data.c_str(), "--calib", calib.c_str(), "--out", out.c_str(),
-          "--quiet", "--sequential", static_cast<char*>(nullptr));
-    _exit(127);
-  }
+  const pid_t pid = test::startPlslamRun(data, out, {"--sequential"});
+  ASSERT_GT(pid, 0);
   std::this_thread::sleep_for(std::chrono::milliseconds(3000));
   kill(pid, SIGINT);
   int status = 0;

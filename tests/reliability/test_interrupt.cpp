@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <filesystem>
@@ -80,15 +79,8 @@ TEST(Interrupt, CtrlCAtAnyMomentLeavesEveryOutputAbsentOrComplete) {
       std::fputs(kOld.c_str(), fp);
       std::fclose(fp);
     }
-    const pid_t pid = fork();
-    ASSERT_GE(pid, 0);
-    if (pid == 0) {
-      const std::string exe = test::binaryDir() + "/plslam";
-      const std::string calib = data + "/camera.xml";
-      execl(exe.c_str(), exe.c_str(), "run", "--dataset", data.c_str(), "--calib", calib.c_str(), "--out", out.c_str(),
-            "--quiet", static_cast<char*>(nullptr));
-      _exit(127);
-    }
+    const pid_t pid = test::startPlslamRun(data, out);
+    ASSERT_GT(pid, 0);
     std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
     kill(pid, SIGINT);
     int status = 0;
@@ -129,15 +121,8 @@ TEST(Interrupt, CtrlCPressedAgainWhileTheOutputsAreWrittenDoesNotCutThemShort) {
   const std::string data = test::syntheticSequence(synth::SceneKind::kStatic, 120);
   const std::string out = test::scratchDir("interrupt_again") + "/out";
   fs::create_directories(out);
-  const pid_t pid = fork();
-  ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    const std::string exe = test::binaryDir() + "/plslam";
-    const std::string calib = data + "/camera.xml";
-    execl(exe.c_str(), exe.c_str(), "run", "--dataset", data.c_str(), "--calib", calib.c_str(), "--out", out.c_str(),
-          "--quiet", static_cast<char*>(nullptr));
-    _exit(127);
-  }
+  const pid_t pid = test::startPlslamRun(data, out);
+  ASSERT_GT(pid, 0);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   while (!catchesSigint(pid) && std::chrono::steady_clock::now() < deadline)
     std::this_thread::sleep_for(std::chrono::milliseconds(5));

@@ -2,6 +2,7 @@
 
 #include <cstdlib>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -48,6 +49,19 @@ CommandResult runCommand(const std::string& command, bool with_stderr) {
 
 CommandResult runPlslam(const std::string& arguments, bool with_stderr) {
   return runCommand(binaryDir() + "/plslam " + arguments, with_stderr);
+}
+
+int startPlslamRun(const std::string& data, const std::string& out, const std::vector<std::string>& extra) {
+  std::vector<std::string> args = {binaryDir() + "/plslam", "run", "--dataset", data, "--calib", data + "/camera.xml",
+                                   "--out", out, "--quiet"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  const pid_t pid = fork();
+  if (pid != 0) return pid;  // the parent, or -1
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  execv(argv[0], argv.data());
+  _exit(127);
 }
 
 std::string readFile(const std::string& path) {

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include <string>
+#include <vector>
 
 namespace plslam::test {
 
@@ -42,6 +43,9 @@ struct CommandResult {
 CommandResult runCommand(const std::string& command, bool with_stderr = true);
 /// Runs the built `plslam` with `arguments`.
 CommandResult runPlslam(const std::string& arguments, bool with_stderr = true);
+/// Starts `plslam run --dataset DATA --calib DATA/camera.xml --out OUT --quiet EXTRA...` as a
+/// child process and returns its pid, for tests that signal it; the caller waits for it.
+int startPlslamRun(const std::string& data, const std::string& out, const std::vector<std::string>& extra = {});
 /// The whole content of a file ("" when it cannot be read).
 std::string readFile(const std::string& path);
 /// `text` parsed as JSON; a test failure naming `what` (and null) when it is not JSON.
