@@ -5,8 +5,9 @@ usage: tools/frames_by_block.py RUN_OUT [BLOCK_FRAMES]
 
 Reads RUN_OUT/frames.csv (written by `plslam run`) and prints, for each block of
 BLOCK_FRAMES frames (default 1000), the median and 95th percentile of the tracking time
-and the medians of the projection search, the dynamic check and LSD, in ms, and the
-keyframes mapped by the block's end. Then the ratio the long-run figure of issue 16 asks
+and the medians of the projection search, the dynamic check and LSD, in ms, the median
+size of the local map searched (points and lines: the search's work, whatever the
+machine's speed), and the keyframes mapped by the block's end. Then the ratio the long-run figure of issue 16 asks
 for: the median tracking time of the last BLOCK_FRAMES frames over that of frames 500 to
 1500. Standard library only.
 """
@@ -32,14 +33,16 @@ def main():
         rows = list(csv.DictReader(f))
     if not rows:
         sys.exit("no frames in " + sys.argv[1] + "/frames.csv")
-    print("frames | tracking median | p95 | search median | dynamic median | lsd median | keyframes at the end")
+    print("frames | tracking median | p95 | search median | dynamic median | lsd median | local map points | lines"
+          " | keyframes at the end")
     for start in range(0, len(rows), block):
         part = rows[start:start + block]
         tracking = column(part, "tracking_ms")
-        print("%d-%d | %.1f | %.1f | %.1f | %.1f | %.1f | %s" % (
+        print("%d-%d | %.1f | %.1f | %.1f | %.1f | %.1f | %d | %d | %s" % (
             start, start + len(part) - 1, statistics.median(tracking), p95(tracking),
             statistics.median(column(part, "search_ms")), statistics.median(column(part, "dynamic_ms")),
-            statistics.median(column(part, "lsd_ms")), part[-1]["keyframes_before"]))
+            statistics.median(column(part, "lsd_ms")), statistics.median(column(part, "local_points")),
+            statistics.median(column(part, "local_lines")), part[-1]["keyframes_before"]))
     if len(rows) >= 1500 + block:
         early = statistics.median(column(rows[500:1500], "tracking_ms"))
         late = statistics.median(column(rows[-block:], "tracking_ms"))

@@ -5,7 +5,6 @@
 #include <opencv2/calib3d.hpp>
 #include <set>
 #include <unordered_map>
-#include <unordered_set>
 
 #include "core/error.h"
 #include "core/log.h"
@@ -170,6 +169,8 @@ TrackingResult Tracker::trackInitialised(TimeNs t_ns, const FrameFeatures& f) {
 Tracker::Attempt Tracker::trackFromLastPose(double dt_s, const FrameFeatures& f, Matches* m, TrackingResult* r) {
   const SE3 predicted = have_velocity_ ? T_w_last_ * T_prev_last_ : T_w_last_;
   const LocalMap local = takeLocalMap();
+  r->local_points = static_cast<int>(local.point_ids.size());
+  r->local_lines = static_cast<int>(local.line_ids.size());
   // Each way in turn; a pose that would need an impossible speed is a wrong one (a few
   // matches on a blurred frame can agree on it) and counts as a failure.
   auto plausible = [&](Attempt a) {
@@ -449,15 +450,18 @@ Id Tracker::keyframeSharingMost(const Matches& m, Id fallback) const {
 
 Tracker::LocalMap Tracker::collectLocalMap() {
   LocalMap local;
-  std::unordered_set<Id> ps, ls;
+  scratch_points_.clear(last_local_points_);
+  scratch_lines_.clear(last_local_lines_);
   for (Id kf : localKeyframes()) {
     const KeyFrame* k = map_->keyframe(kf);
     if (!k) continue;
     for (Id p : k->point_ids)
-      if (p != kNoId && ps.insert(p).second) local.point_ids.push_back(p);
+      if (scratch_points_.insert(p)) local.point_ids.push_back(p);
     for (Id l : k->line_ids)
-      if (l != kNoId && ls.insert(l).second) local.line_ids.push_back(l);
+      if (scratch_lines_.insert(l)) local.line_ids.push_back(l);
   }
+  last_local_points_ = local.point_ids.size();
+  last_local_lines_ = local.line_ids.size();
   return local;
 }
 
@@ -478,7 +482,7 @@ struct PointPredictions {
 };
 
 PointPredictions predictPoints(Map* map, const std::vector<Id>& point_ids, const SE3& T_c_w,
-                               const PinholeCamera& camera, double near_plane_m, const std::set<Id>& matched,
+                               const PinholeCamera& camera, double near_plane_m, const IdSet& matched,
                                std::vector<Id>* visible) {
   PointPredictions out;
   out.desc.reserve(point_ids.size());
@@ -490,7 +494,7 @@ PointPredictions predictPoints(Map* map, const std::vector<Id>& point_ids, const
     const Eigen::Vector2d uv = camera.projectIdeal(p_c);
     if (!camera.inImage(uv)) continue;
     if (visible) visible->push_back(id);
-    if (matched.count(id)) continue;
+    if (matched.contains(id)) continue;
     out.ids.push_back(id);
     out.predictions.push_back({uv, -1});
     out.desc.push_back(p->descriptor);
@@ -507,7 +511,7 @@ struct LinePredictions {
 };
 
 LinePredictions predictLines(Map* map, const std::vector<Id>& line_ids, const SE3& T_c_w, const PinholeCamera& camera,
-                             double near, const std::set<Id>& matched, std::vector<Id>* visible) {
+                             double near, const IdSet& matched, std::vector<Id>* visible) {
   LinePredictions out;
   out.desc.reserve(line_ids.size());
   for (Id id : line_ids) {
@@ -521,7 +525,7 @@ LinePredictions predictLines(Map* map, const std::vector<Id>& line_ids, const SE
     const Eigen::Vector2d p = camera.projectIdeal(P), q = camera.projectIdeal(Q);
     if (!camera.inImage(p) && !camera.inImage(q) && !camera.inImage(0.5 * (p + q))) continue;
     if (visible) visible->push_back(id);
-    if (matched.count(id)) continue;
+    if (matched.contains(id)) continue;
     out.ids.push_back(id);
     out.segments.push_back(LineSegment2D::fromEndpoints(p, q));
     out.desc.push_back(l->descriptor);
@@ -541,7 +545,9 @@ void Tracker::searchLocalMap(const LocalMap& local, const SE3& T_w_c, const Fram
   const SE3 T_c_w = T_w_c.inverse();
   // Landmarks matched in an earlier pass keep their keypoint; the rest are searched among
   // the keypoints still free.
-  const std::set<Id> matched_points(m->point_ids.begin(), m->point_ids.end());
+  IdSet& matched_points = scratch_points_;
+  matched_points.clear(m->point_ids.size());
+  for (Id id : m->point_ids) matched_points.insert(id);
   std::vector<char> kp_taken(f.points.size());
   for (size_t k = 0; k < f.points.size(); ++k) kp_taken[k] = m->point_ids[k] != kNoId;
   const PointPredictions pts = predictPoints(map_, local.point_ids, T_c_w, camera_, options_.near_plane_m,
@@ -566,7 +572,9 @@ void Tracker::searchLocalMap(const LocalMap& local, const SE3& T_w_c, const Fram
     m->point_ids[dm.train] = pts.ids[dm.query];
 
   if (!options_.use_lines || f.lines.empty()) return;
-  const std::set<Id> matched_lines(m->line_ids.begin(), m->line_ids.end());
+  IdSet& matched_lines = scratch_lines_;
+  matched_lines.clear(m->line_ids.size());
+  for (Id id : m->line_ids) matched_lines.insert(id);
   std::vector<char> line_taken(f.lines.size());
   std::vector<LineSegment2D> segments;
   for (size_t k = 0; k < f.lines.size(); ++k) {

@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "camera/pinhole_camera.h"
+#include "core/id_set.h"
 #include "core/map.h"
 #include "core/profile.h"
 #include "optim/pose_optimizer.h"
@@ -140,6 +141,9 @@ struct TrackingResult {
   Id reference_keyframe = kNoId;  ///< the keyframe the pose is kept relative to
   int matched_points = 0, matched_lines = 0;
   int inliers = 0;
+  /// The local map the frame was searched in (landmarks of the local keyframes): the
+  /// search's work, whatever the machine's speed. 0 when it was not searched.
+  int local_points = 0, local_lines = 0;
   /// When tracked (not on initialisation): the landmark each keypoint / segment was an
   /// inlier match of (kNoId: none), for refining the pose later (frame_refinement.h).
   std::vector<Id> point_matches, line_matches;
@@ -276,6 +280,10 @@ class Tracker {
   StageTimes times_;  // the current frame's stage times (searchLocalMap and optimise add to them)
   Id covisible_of_ = kNoId;  // the keyframe covisible_ was computed for
   std::vector<std::pair<Id, int>> covisible_;
+  // Reused on every frame, so that the per-frame id sets allocate nothing once warmed up:
+  // the local map's landmarks while it is collected, then the landmarks already matched.
+  IdSet scratch_points_, scratch_lines_;
+  size_t last_local_points_ = 0, last_local_lines_ = 0;  // the last local map's size, to size them
 };
 
 }  // namespace plslam

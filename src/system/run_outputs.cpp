@@ -107,7 +107,7 @@ std::string framesToCsv(const std::vector<FrameRecord>& records) {
   os << "t_s,status,tracking_ms,features_ms";
   for (int i = 0; i < kStageCount; ++i) os << "," << stageName(static_cast<Stage>(i)) << "_ms";
   os << ",refinement_ms,segmentation_ms,mask_age_frames,keyframes_before,points,lines,matched_points,matched_lines,"
-        "dynamic_points_rejected,method\n";
+        "dynamic_points_rejected,method,local_points,local_lines\n";
   char buf[64];
   auto number = [&](double x) {
     std::snprintf(buf, sizeof(buf), "%.3f", x);
@@ -120,7 +120,7 @@ std::string framesToCsv(const std::vector<FrameRecord>& records) {
     os << "," << number(r.refinement_ms) << "," << (r.segmentation_ms >= 0 ? number(r.segmentation_ms) : "")
        << "," << r.mask_age_frames << "," << r.keyframes_before << "," << r.points << "," << r.lines << ","
        << r.matched_points << "," << r.matched_lines << "," << r.dynamic_points_rejected << "," << toString(r.method)
-       << "\n";
+       << "," << r.local_points << "," << r.local_lines << "\n";
   }
   return os.str();
 }

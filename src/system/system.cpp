@@ -212,6 +212,8 @@ TrackingResult System::feed(const RgbdFrame& input, const cv::Mat& mask) {
   rec.lines = static_cast<int>(f.lines.size());
   rec.matched_points = r.matched_points;
   rec.matched_lines = r.matched_lines;
+  rec.local_points = r.local_points;
+  rec.local_lines = r.local_lines;
   if (isTracked(r.status)) {
     std::lock_guard<std::mutex> lock(map_.mutex());
     if (r.new_keyframe) {

@@ -80,6 +80,7 @@ struct FrameRecord {
   double tracking_ms = 0;   ///< from the frame's arrival to its pose (features included)
   double features_ms = 0;   ///< until the features are ready: extraction and the dynamic check (which overlaps it)
   int points = 0, lines = 0, matched_points = 0, matched_lines = 0;
+  int local_points = 0, local_lines = 0;  ///< the local map searched (TrackingResult)
   int dynamic_points_rejected = 0, dynamic_lines_rejected = 0;
   double segmentation_ms = -1;   ///< a segmentation that finished for this frame (-1: none)
   bool fresh_segmentation = false;  ///< masks at most dynamic.segment_every frames old
