@@ -14,6 +14,9 @@ Map& Map::operator=(Map&& other) noexcept {
   keyframes_ = std::move(other.keyframes_);
   points_ = std::move(other.points_);
   lines_ = std::move(other.lines_);
+  keyframe_at_ = std::move(other.keyframe_at_);
+  point_at_ = std::move(other.point_at_);
+  line_at_ = std::move(other.line_at_);
   next_keyframe_id_ = other.next_keyframe_id_;
   next_point_id_ = other.next_point_id_;
   next_line_id_ = other.next_line_id_;
@@ -21,47 +24,57 @@ Map& Map::operator=(Map&& other) noexcept {
   other.keyframes_.clear();
   other.points_.clear();
   other.lines_.clear();
+  other.keyframe_at_.clear();
+  other.point_at_.clear();
+  other.line_at_.clear();
   other.next_keyframe_id_ = other.next_point_id_ = other.next_line_id_ = 0;
   return *this;
 }
 
 namespace {
+
+/// Stores `entity` under its id (not in use, >= 0) and indexes it.
 template <typename T>
-Id restoreInto(std::map<Id, T>* entities, Id* next_id, T entity, const char* what) {
+Id insertEntity(std::map<Id, T>* entities, std::vector<T*>* at, T entity) {
+  const Id id = entity.id;
+  T* stored = &entities->emplace(id, std::move(entity)).first->second;
+  if (static_cast<Id>(at->size()) <= id) at->resize(static_cast<size_t>(id) + 1, nullptr);
+  (*at)[static_cast<size_t>(id)] = stored;
+  return id;
+}
+
+template <typename T>
+Id restoreInto(std::map<Id, T>* entities, std::vector<T*>* at, Id* next_id, T entity, const char* what) {
   const Id id = entity.id;
   if (id < 0) throw DataError(std::string("Map: cannot restore a ") + what + " with id " + std::to_string(id));
   if (entities->count(id)) throw DataError(std::string("Map: ") + what + " id " + std::to_string(id) + " restored twice");
-  entities->emplace(id, std::move(entity));
   *next_id = std::max(*next_id, id + 1);
-  return id;
+  return insertEntity(entities, at, std::move(entity));
 }
+
 }  // namespace
 
-Id Map::restoreKeyFrame(KeyFrame kf) { return restoreInto(&keyframes_, &next_keyframe_id_, std::move(kf), "keyframe"); }
-Id Map::restorePoint(MapPoint p) { return restoreInto(&points_, &next_point_id_, std::move(p), "map point"); }
-Id Map::restoreLine(MapLine l) { return restoreInto(&lines_, &next_line_id_, std::move(l), "map line"); }
+Id Map::restoreKeyFrame(KeyFrame kf) {
+  return restoreInto(&keyframes_, &keyframe_at_, &next_keyframe_id_, std::move(kf), "keyframe");
+}
+Id Map::restorePoint(MapPoint p) { return restoreInto(&points_, &point_at_, &next_point_id_, std::move(p), "map point"); }
+Id Map::restoreLine(MapLine l) { return restoreInto(&lines_, &line_at_, &next_line_id_, std::move(l), "map line"); }
 
 Id Map::addKeyFrame(KeyFrame kf) {
   kf.id = next_keyframe_id_++;
   kf.point_ids.resize(kf.features.points.size(), kNoId);
   kf.line_ids.resize(kf.features.lines.size(), kNoId);
-  const Id id = kf.id;
-  keyframes_.emplace(id, std::move(kf));
-  return id;
+  return insertEntity(&keyframes_, &keyframe_at_, std::move(kf));
 }
 
 Id Map::addPoint(MapPoint p) {
   p.id = next_point_id_++;
-  const Id id = p.id;
-  points_.emplace(id, std::move(p));
-  return id;
+  return insertEntity(&points_, &point_at_, std::move(p));
 }
 
 Id Map::addLine(MapLine l) {
   l.id = next_line_id_++;
-  const Id id = l.id;
-  lines_.emplace(id, std::move(l));
-  return id;
+  return insertEntity(&lines_, &line_at_, std::move(l));
 }
 
 void Map::addPointObservation(Id kf, int index, Id pt) {
@@ -97,6 +110,7 @@ void Map::erasePoint(Id pt) {
   if (it == points_.end()) return;
   for (const auto& [kf, idx] : it->second.observations)
     if (KeyFrame* k = keyframe(kf); k && k->point_ids[idx] == pt) k->point_ids[idx] = kNoId;
+  point_at_[static_cast<size_t>(pt)] = nullptr;
   points_.erase(it);
 }
 
@@ -105,6 +119,7 @@ void Map::eraseLine(Id ln) {
   if (it == lines_.end()) return;
   for (const auto& [kf, idx] : it->second.observations)
     if (KeyFrame* k = keyframe(kf); k && k->line_ids[idx] == ln) k->line_ids[idx] = kNoId;
+  line_at_[static_cast<size_t>(ln)] = nullptr;
   lines_.erase(it);
 }
 
@@ -121,21 +136,6 @@ void Map::mergePoint(Id from, Id into) {
     if (!point(into)->observations.count(kf)) addPointObservation(kf, idx, into);
 }
 
-KeyFrame* Map::keyframe(Id id) {
-  auto it = keyframes_.find(id);
-  return it == keyframes_.end() ? nullptr : &it->second;
-}
-MapPoint* Map::point(Id id) {
-  auto it = points_.find(id);
-  return it == points_.end() ? nullptr : &it->second;
-}
-MapLine* Map::line(Id id) {
-  auto it = lines_.find(id);
-  return it == lines_.end() ? nullptr : &it->second;
-}
-const KeyFrame* Map::keyframe(Id id) const { return const_cast<Map*>(this)->keyframe(id); }
-const MapPoint* Map::point(Id id) const { return const_cast<Map*>(this)->point(id); }
-const MapLine* Map::line(Id id) const { return const_cast<Map*>(this)->line(id); }
 
 std::vector<std::pair<Id, int>> Map::covisible(Id kf, int min_shared) const {
   std::map<Id, int> shared;

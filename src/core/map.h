@@ -134,12 +134,13 @@ class Map {
   const std::map<Id, KeyFrame>& keyframes() const { return keyframes_; }
   const std::map<Id, MapPoint>& points() const { return points_; }
   const std::map<Id, MapLine>& lines() const { return lines_; }
-  KeyFrame* keyframe(Id id);
-  MapPoint* point(Id id);
-  MapLine* line(Id id);
-  const KeyFrame* keyframe(Id id) const;
-  const MapPoint* point(Id id) const;
-  const MapLine* line(Id id) const;
+  /// The entity with id `id`, or null (erased, never made, kNoId).
+  KeyFrame* keyframe(Id id) { return byId(keyframe_at_, id); }
+  MapPoint* point(Id id) { return byId(point_at_, id); }
+  MapLine* line(Id id) { return byId(line_at_, id); }
+  const KeyFrame* keyframe(Id id) const { return byId(keyframe_at_, id); }
+  const MapPoint* point(Id id) const { return byId(point_at_, id); }
+  const MapLine* line(Id id) const { return byId(line_at_, id); }
 
   /// Counts corrections of the whole map (loop closure). A stage that solved on a snapshot
   /// taken before a correction must not write its absolute result back over it.
@@ -154,6 +155,18 @@ class Map {
   std::map<Id, KeyFrame> keyframes_;
   std::map<Id, MapPoint> points_;
   std::map<Id, MapLine> lines_;
+  // Each entity by id (null: erased or never made), so that keyframe(), point() and line()
+  // are an array read rather than a walk down a tree scattered over the heap: the tracker
+  // looks up thousands of landmarks a frame, and the walk got slower as the map grew
+  // (docs/RESULTS.md, "The long run's growing search"). std::map nodes never move, so the
+  // pointers hold until the entity is erased. Costs 8 bytes per id ever given out.
+  std::vector<KeyFrame*> keyframe_at_;
+  std::vector<MapPoint*> point_at_;
+  std::vector<MapLine*> line_at_;
+  template <typename T>
+  static T* byId(const std::vector<T*>& at, Id id) {
+    return id >= 0 && id < static_cast<Id>(at.size()) ? at[static_cast<size_t>(id)] : nullptr;
+  }
   Id next_keyframe_id_ = 0, next_point_id_ = 0, next_line_id_ = 0;
   uint64_t corrections_ = 0;
 };

@@ -63,3 +63,44 @@ TEST(Map, MergeMovesObservations) {
   EXPECT_EQ(map.point(p)->observations.size(), 2u);
   EXPECT_EQ(map.keyframe(b)->point_ids[2], p);
 }
+
+TEST(Map, LookupByIdFindsEachEntityThroughAddEraseRestoreAndMove) {
+  Map map;
+  std::vector<Id> points;
+  for (int k = 0; k < 100; ++k) {
+    MapPoint p;
+    p.p_w = Eigen::Vector3d(k, 0, 0);
+    points.push_back(map.addPoint(p));
+  }
+  const Id line = map.addLine(MapLine{});
+  for (int k = 0; k < 100; k += 3) map.erasePoint(points[k]);
+  for (int k = 0; k < 100; ++k) {
+    const MapPoint* p = map.point(points[k]);
+    if (k % 3 == 0) {
+      EXPECT_EQ(p, nullptr) << "erased point " << k;
+    } else {
+      ASSERT_NE(p, nullptr) << "point " << k;
+      EXPECT_EQ(p->id, points[k]);
+      EXPECT_EQ(p->p_w.x(), k);  // its own data, not a neighbour's
+    }
+  }
+  EXPECT_EQ(map.point(kNoId), nullptr);
+  EXPECT_EQ(map.point(points.back() + 1), nullptr);  // never made
+  EXPECT_EQ(map.keyframe(0), nullptr);
+
+  // A saved point put back under its own id, far beyond the ids made so far.
+  MapPoint far;
+  far.id = 5000;
+  map.restorePoint(far);
+  ASSERT_NE(map.point(5000), nullptr);
+  EXPECT_EQ(map.point(5000)->id, 5000);
+  EXPECT_EQ(map.addPoint(MapPoint{}), 5001);
+
+  // Moved maps keep their lookups; the emptied one finds nothing.
+  Map moved(std::move(map));
+  ASSERT_NE(moved.point(points[1]), nullptr);
+  EXPECT_EQ(moved.point(points[1])->p_w.x(), 1);
+  EXPECT_NE(moved.line(line), nullptr);
+  EXPECT_EQ(map.point(points[1]), nullptr);  // NOLINT(bugprone-use-after-move): moved-from is documented empty
+  EXPECT_EQ(map.line(line), nullptr);
+}
