@@ -1,4 +1,5 @@
-// A set of map ids that keeps its memory from one use to the next.
+// A set of ids (map ids, edge keys: any int64 but kNoId) that keeps its memory from one use
+// to the next.
 #pragma once
 
 #include <cstddef>

@@ -4,10 +4,11 @@
 #include <cstdint>
 #include <cstring>
 #include <opencv2/imgproc.hpp>
-#include <unordered_map>
-#include <unordered_set>
+#include <limits>
+#include <utility>
 
 #include "core/error.h"
+#include "core/id_set.h"
 #include "core/log.h"
 
 namespace plslam {
@@ -37,6 +38,35 @@ std::vector<int> snakeOrder(const std::vector<cv::Point2f>& points) {
   return order;
 }
 
+/// The index given with each distinct pixel (the first one given there), found by binary
+/// search in one sorted array: the dynamic check builds this on every frame, and a hash map
+/// allocated a node per keypoint (docs/RESULTS.md, "The long run's growing search").
+class PixelIndex {
+ public:
+  PixelIndex(const std::vector<cv::Point2f>& pixels, const std::vector<int>& index) : first_(pixels.size()) {
+    std::vector<std::pair<uint64_t, size_t>> keyed(pixels.size());
+    for (size_t k = 0; k < pixels.size(); ++k) keyed[k] = {pixelKey(pixels[k].x, pixels[k].y), k};
+    std::sort(keyed.begin(), keyed.end());  // by key, then by position: the first given comes first
+    for (size_t k = 0; k < keyed.size(); ++k) {
+      if (k > 0 && keyed[k].first == keyed[k - 1].first) continue;
+      first_[keyed[k].second] = 1;
+      sorted_.push_back({keyed[k].first, index[keyed[k].second]});
+    }
+  }
+  /// Whether pixels[k] is the first of the pixels at its place.
+  bool isFirstAt(size_t k) const { return first_[k] != 0; }
+  /// The index given at (x, y), or -1 (no pixel given there: a virtual outer vertex).
+  int find(float x, float y) const {
+    const uint64_t key = pixelKey(x, y);
+    const auto it = std::lower_bound(sorted_.begin(), sorted_.end(), std::make_pair(key, std::numeric_limits<int>::min()));
+    return it != sorted_.end() && it->first == key ? it->second : -1;
+  }
+
+ private:
+  std::vector<char> first_;
+  std::vector<std::pair<uint64_t, int>> sorted_;
+};
+
 }  // namespace
 
 DelaunayGraph triangulateFeatures(const std::vector<cv::Point2f>& pixels, const std::vector<int>& index,
@@ -44,28 +74,25 @@ DelaunayGraph triangulateFeatures(const std::vector<cv::Point2f>& pixels, const 
   if (pixels.size() != index.size())
     throw DataError(str("Delaunay graph: ", pixels.size(), " pixels and ", index.size(), " indices"));
   DelaunayGraph g;
-  std::unordered_map<uint64_t, int> index_at;
-  index_at.reserve(pixels.size());
+  const PixelIndex index_at(pixels, index);
   std::vector<cv::Point2f> distinct;
   for (size_t k = 0; k < pixels.size(); ++k) {
-    if (!index_at.emplace(pixelKey(pixels[k].x, pixels[k].y), index[k]).second) continue;
+    if (!index_at.isFirstAt(k)) continue;
     g.vertices.push_back(index[k]);
     distinct.push_back(pixels[k]);
   }
   if (g.vertices.size() < 3) return g;
   cv::Subdiv2D subdiv(cv::Rect(0, 0, image.width, image.height));
   for (int k : snakeOrder(distinct)) subdiv.insert(distinct[k]);
-  auto lookup = [&](float x, float y) {
-    const auto it = index_at.find(pixelKey(x, y));
-    return it == index_at.end() ? -1 : it->second;  // -1: a virtual outer vertex
-  };
+  auto lookup = [&](float x, float y) { return index_at.find(x, y); };
 
   std::vector<cv::Vec4f> edge_list;
   subdiv.getEdgeList(edge_list);
-  std::unordered_set<int64_t> seen;
+  IdSet seen;
+  seen.clear(edge_list.size());
   for (const cv::Vec4f& e : edge_list) {
     const int a = lookup(e[0], e[1]), b = lookup(e[2], e[3]);
-    if (a < 0 || b < 0 || a == b || !seen.insert(undirectedEdgeKey(a, b)).second) continue;
+    if (a < 0 || b < 0 || a == b || !seen.insert(undirectedEdgeKey(a, b))) continue;
     g.edges.push_back({a, b});
   }
   std::vector<cv::Vec6f> triangle_list;

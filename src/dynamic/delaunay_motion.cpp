@@ -6,9 +6,9 @@
 #include <map>
 #include <numeric>
 #include <opencv2/imgproc.hpp>
-#include <unordered_set>
 
 #include "core/error.h"
+#include "core/id_set.h"
 #include "core/log.h"
 #include "dynamic/delaunay_graph.h"
 
@@ -105,19 +105,19 @@ void testEdges(const std::vector<MotionCorrespondence>& corr, const PinholeCamer
 void flagOutsideRigidGroups(const DelaunayMotionOptions& o, const DelaunayGraph& graph, DelaunayMotionResult* res) {
   const std::vector<int>& nodes = graph.vertices;
   UnionFind together(static_cast<int>(res->moving.size()));
-  std::unordered_set<int64_t> kept;
+  IdSet kept;
+  kept.clear(res->edges.size());
   for (const auto& e : res->edges)
     if (!e.broken) kept.insert(undirectedEdgeKey(e.a, e.b));
-  auto keptEdge = [&](int a, int b) { return kept.count(undirectedEdgeKey(a, b)) > 0; };
+  auto keptEdge = [&](int a, int b) { return kept.contains(undirectedEdgeKey(a, b)); };
   for (const auto& v : graph.triangles) {
     if (!keptEdge(v[0], v[1]) || !keptEdge(v[1], v[2]) || !keptEdge(v[0], v[2])) continue;
     together.unite(v[0], v[1]);
     together.unite(v[0], v[2]);
   }
-  std::map<int, int> size_of;
+  std::vector<int> size_of(res->moving.size());  // per group root
   for (int i : nodes) ++size_of[together.find(i)];
-  int largest = 0;
-  for (const auto& [root, size] : size_of) largest = std::max(largest, size);
+  const int largest = size_of.empty() ? 0 : *std::max_element(size_of.begin(), size_of.end());
   const double static_size = std::min<double>(largest, o.static_group_fraction * nodes.size());
   for (int i : nodes) res->moving[i] = size_of[together.find(i)] < static_size;
 }
