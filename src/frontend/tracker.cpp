@@ -4,7 +4,6 @@
 #include <cmath>
 #include <opencv2/calib3d.hpp>
 #include <set>
-#include <unordered_map>
 
 #include "core/error.h"
 #include "core/log.h"
@@ -436,15 +435,21 @@ Id Tracker::keyframeSharingMost(const Matches& m, Id fallback) const {
   // more keyframes, took more memory, and its tracking time grew along the run instead of
   // staying flat (docs/RESULTS.md, "Long run after the place-keyframe vote").
   std::lock_guard<std::mutex> lock(map_->mutex());
-  std::unordered_map<Id, int> shared;
+  if (map_->keyframes().empty()) return fallback;
+  // Counted by keyframe id (keyframes are never erased, so the ids are dense): one array a
+  // frame rather than a hash node per keyframe.
+  std::vector<int> shared(static_cast<size_t>(map_->keyframes().rbegin()->first) + 1, 0);
   for (Id id : m.point_ids)
     if (const MapPoint* p = id == kNoId ? nullptr : map_->point(id))
-      for (const auto& [kf, idx] : p->observations) ++shared[kf];
+      for (const auto& [kf, idx] : p->observations)
+        if (kf < static_cast<Id>(shared.size())) ++shared[static_cast<size_t>(kf)];
   // Ties go to the newer keyframe: while the camera explores, that is the one it made last.
   Id best_kf = fallback;
   int best = 0;
-  for (const auto& [kf, n] : shared)
-    if (n > best || (n == best && kf > best_kf)) best = n, best_kf = kf;
+  for (Id kf = 0; kf < static_cast<Id>(shared.size()); ++kf) {
+    const int n = shared[static_cast<size_t>(kf)];
+    if (n > 0 && (n > best || (n == best && kf > best_kf))) best = n, best_kf = kf;
+  }
   return best_kf;
 }
 
