@@ -57,7 +57,9 @@ Id restoreInto(std::map<Id, T>* entities, std::vector<T*>* at, Id* next_id, T en
 Id Map::restoreKeyFrame(KeyFrame kf) {
   return restoreInto(&keyframes_, &keyframe_at_, &next_keyframe_id_, std::move(kf), "keyframe");
 }
-Id Map::restorePoint(MapPoint p) { return restoreInto(&points_, &point_at_, &next_point_id_, std::move(p), "map point"); }
+Id Map::restorePoint(MapPoint p) {
+  return restoreInto(&points_, &point_at_, &next_point_id_, std::move(p), "map point");
+}
 Id Map::restoreLine(MapLine l) { return restoreInto(&lines_, &line_at_, &next_line_id_, std::move(l), "map line"); }
 
 Id Map::addKeyFrame(KeyFrame kf) {

@@ -58,7 +58,8 @@ class PixelIndex {
   /// The index given at (x, y), or -1 (no pixel given there: a virtual outer vertex).
   int find(float x, float y) const {
     const uint64_t key = pixelKey(x, y);
-    const auto it = std::lower_bound(sorted_.begin(), sorted_.end(), std::make_pair(key, std::numeric_limits<int>::min()));
+    const auto it =
+        std::lower_bound(sorted_.begin(), sorted_.end(), std::make_pair(key, std::numeric_limits<int>::min()));
     return it != sorted_.end() && it->first == key ? it->second : -1;
   }
 
