@@ -138,7 +138,6 @@ void Map::mergePoint(Id from, Id into) {
     if (!point(into)->observations.count(kf)) addPointObservation(kf, idx, into);
 }
 
-
 std::vector<std::pair<Id, int>> Map::covisible(Id kf, int min_shared) const {
   std::map<Id, int> shared;
   const KeyFrame* k = keyframe(kf);

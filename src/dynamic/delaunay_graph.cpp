@@ -85,21 +85,20 @@ DelaunayGraph triangulateFeatures(const std::vector<cv::Point2f>& pixels, const 
   if (g.vertices.size() < 3) return g;
   cv::Subdiv2D subdiv(cv::Rect(0, 0, image.width, image.height));
   for (int k : snakeOrder(distinct)) subdiv.insert(distinct[k]);
-  auto lookup = [&](float x, float y) { return index_at.find(x, y); };
 
   std::vector<cv::Vec4f> edge_list;
   subdiv.getEdgeList(edge_list);
   IdSet seen;
   seen.clear(edge_list.size());
   for (const cv::Vec4f& e : edge_list) {
-    const int a = lookup(e[0], e[1]), b = lookup(e[2], e[3]);
+    const int a = index_at.find(e[0], e[1]), b = index_at.find(e[2], e[3]);
     if (a < 0 || b < 0 || a == b || !seen.insert(undirectedEdgeKey(a, b))) continue;
     g.edges.push_back({a, b});
   }
   std::vector<cv::Vec6f> triangle_list;
   subdiv.getTriangleList(triangle_list);
   for (const cv::Vec6f& t : triangle_list) {
-    const std::array<int, 3> v = {lookup(t[0], t[1]), lookup(t[2], t[3]), lookup(t[4], t[5])};
+    const std::array<int, 3> v = {index_at.find(t[0], t[1]), index_at.find(t[2], t[3]), index_at.find(t[4], t[5])};
     if (v[0] < 0 || v[1] < 0 || v[2] < 0) continue;
     g.triangles.push_back(v);
     g.triangle_pixels.push_back({cv::Point2f(t[0], t[1]), cv::Point2f(t[2], t[3]), cv::Point2f(t[4], t[5])});
