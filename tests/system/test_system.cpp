@@ -12,6 +12,7 @@
 #include "support/test_support.h"
 #include "synthetic_cache.h"
 #include "core/option_table.h"
+#include "system/run_outputs.h"
 #include "system/system.h"
 
 using namespace plslam;
@@ -215,6 +216,33 @@ TEST(SystemSynthetic, EveryTrackedFrameHasATimeForEachStageThatRan) {
   for (Stage st : {Stage::kSearch, Stage::kPoseOptimisation})
     for (size_t f = 1; f < r.stats.stage_ms[static_cast<int>(st)].size(); ++f)
       EXPECT_GT(r.stats.stage_ms[static_cast<int>(st)][f], 0.0) << stageName(st) << " of frame " << f;
+}
+
+TEST(SystemSynthetic, EachSearchedFrameRecordsItsLocalMapSizeInFramesCsv) {
+  const std::string dir = test::syntheticSequence(synth::SceneKind::kStatic, 120);
+  const PinholeCamera camera = loadCameraFile(dir + "/camera.xml");
+  TumDataset data = TumDataset::open(dir, camera);
+  System slam(camera, sequential());
+  slam.start();
+  RgbdFrame frame;
+  while (data.next(&frame)) slam.feed(frame);
+  slam.finish();
+  const std::vector<FrameRecord>& records = slam.records();
+  ASSERT_GT(records.size(), 2u);
+  EXPECT_EQ(records[0].local_points, 0) << "the first frame starts the map: nothing was searched";
+  for (size_t f = 1; f < records.size(); ++f) {
+    EXPECT_GT(records[f].local_points, 0) << "frame " << f;
+    EXPECT_GT(records[f].local_lines, 0) << "frame " << f;
+    // What a frame matched came out of the local map it searched.
+    EXPECT_GE(records[f].local_points, records[f].matched_points) << "frame " << f;
+  }
+  // frames.csv ends each line with the two counts.
+  const std::string csv = framesToCsv(records);
+  const std::string header = csv.substr(0, csv.find('\n'));
+  EXPECT_EQ(header.substr(header.size() - std::string(",local_points,local_lines").size()), ",local_points,local_lines");
+  const std::string last_row_end =
+      "," + std::to_string(records.back().local_points) + "," + std::to_string(records.back().local_lines) + "\n";
+  EXPECT_EQ(csv.substr(csv.size() - last_row_end.size()), last_row_end);
 }
 
 TEST(SystemRobustness, FramesWithoutDepthOrTextureGiveAStatusNotACrash) {
