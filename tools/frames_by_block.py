@@ -20,6 +20,13 @@ def column(rows, key):
     return [float(r[key]) for r in rows if r[key] not in ("", None)]
 
 
+def count_median(rows, key):
+    """The median of a count column, or "-" in a frames.csv written before the column existed."""
+    if key not in rows[0]:
+        return "-"
+    return "%d" % statistics.median(column(rows, key))
+
+
 def p95(values):
     values = sorted(values)
     return values[min(len(values) - 1, int(round(0.95 * (len(values) - 1))))]
@@ -38,11 +45,11 @@ def main():
     for start in range(0, len(rows), block):
         part = rows[start:start + block]
         tracking = column(part, "tracking_ms")
-        print("%d-%d | %.1f | %.1f | %.1f | %.1f | %.1f | %d | %d | %s" % (
+        print("%d-%d | %.1f | %.1f | %.1f | %.1f | %.1f | %s | %s | %s" % (
             start, start + len(part) - 1, statistics.median(tracking), p95(tracking),
             statistics.median(column(part, "search_ms")), statistics.median(column(part, "dynamic_ms")),
-            statistics.median(column(part, "lsd_ms")), statistics.median(column(part, "local_points")),
-            statistics.median(column(part, "local_lines")), part[-1]["keyframes_before"]))
+            statistics.median(column(part, "lsd_ms")), count_median(part, "local_points"),
+            count_median(part, "local_lines"), part[-1]["keyframes_before"]))
     if len(rows) >= 1500 + block:
         early = statistics.median(column(rows[500:1500], "tracking_ms"))
         late = statistics.median(column(rows[-block:], "tracking_ms"))
